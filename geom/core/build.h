@@ -1,0 +1,65 @@
+#pragma once
+/// \file
+/// Building a valid SurfaceMesh from a polygon soup, repairing what real files get wrong and
+/// reporting every change. The rest of geom may assume the valid mesh this produces.
+
+#include <geom/core/soup.h>
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace geom {
+
+enum class RepairPolicy {
+  kRepair,  ///< keep every face that can be kept, report what changed
+  kStrict,  ///< throw TopologyError naming the first offending face
+};
+
+struct BuildOptions {
+  RepairPolicy policy = RepairPolicy::kRepair;
+  /// Weld vertices closer than weld_tolerance × bounding-box diagonal. Negative: no
+  /// welding. Zero: weld exact duplicates only.
+  double weld_tolerance = -1.0;
+  /// Flip faces to agree with their neighbours where the surface is orientable.
+  bool orient = true;
+  /// Drop vertices no face uses.
+  bool drop_unreferenced = false;
+};
+
+/// What build() changed. Each count comes with a few example element indices (input
+/// numbering) so a message can name them.
+struct BuildReport {
+  std::size_t welded_vertices = 0;        ///< vertices merged into another
+  std::size_t unreferenced_vertices = 0;  ///< vertices no face uses (kept unless asked)
+  std::size_t dropped_out_of_range = 0;   ///< faces with an index ≥ V (dropped)
+  std::size_t dropped_degenerate = 0;     ///< faces with < 3 distinct corners or zero area
+  std::size_t dropped_duplicate = 0;      ///< faces with the same corner set as another
+  std::size_t split_nonmanifold_edges = 0;     ///< edges with 3+ faces, split apart
+  std::size_t split_nonmanifold_vertices = 0;  ///< bow-tie vertices split into fans
+  std::size_t flipped_faces = 0;          ///< faces reoriented to agree with neighbours
+  bool orientable = true;                 ///< false when some component is not (Möbius)
+  std::vector<std::string> messages;      ///< one line per kind of change, with examples
+  /// Input face index of each output face (faces are never reordered, only dropped).
+  std::vector<std::uint32_t> face_origin;
+  /// Output vertex of each input vertex (invalid when dropped); splits add new vertices
+  /// whose origin is in vertex_origin.
+  std::vector<Vertex> vertex_map;
+  std::vector<std::uint32_t> vertex_origin;
+
+  bool changed() const;
+};
+
+struct BuildResult {
+  SurfaceMesh mesh;
+  BuildReport report;
+};
+
+/// Build a mesh from a soup.
+/// Throws: TopologyError (policy kStrict) naming the first offending face; InvalidArgument
+/// when the soup's arrays disagree in length.
+/// Complexity: O(V + C log C) for C corners; near-linear on clean input.
+BuildResult build(const PolygonSoup& soup, const BuildOptions& options = {});
+
+}  // namespace geom

@@ -1,0 +1,85 @@
+#pragma once
+/// \file
+/// PolygonSoup: what a file holds before it is a mesh — positions, faces as index lists,
+/// and optional attributes. Readers produce it, build() turns it into a SurfaceMesh, and
+/// to_soup() turns a mesh back into it for writers.
+
+#include <geom/core/surface_mesh.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace geom {
+
+/// A named scalar attribute per vertex or per face (PLY's extra properties and the like).
+struct NamedScalars {
+  std::string name;
+  std::vector<double> values;
+};
+
+/// A crease tag: edge (a, b) with a sharpness (OpenSubdiv: 0 smooth … 10 = infinitely sharp).
+struct EdgeSharpness {
+  std::uint32_t a, b;
+  double sharpness;
+};
+struct VertexSharpness {
+  std::uint32_t v;
+  double sharpness;
+};
+
+struct PolygonSoup {
+  std::vector<Point> positions;
+  /// Face f has corners face_indices[face_offsets[f] .. face_offsets[f+1]).
+  /// face_offsets is empty (no faces) or has F + 1 entries starting at 0.
+  std::vector<std::uint32_t> face_offsets;
+  std::vector<std::uint32_t> face_indices;
+
+  // Per-vertex attributes: empty, or one per position.
+  std::vector<Normal> vertex_normals;
+  std::vector<Color> vertex_colors;
+  std::vector<TexCoord> vertex_texcoords;
+  std::vector<NamedScalars> vertex_scalars;
+  // Per-corner attributes: empty, or one per face_indices entry (OBJ's vt / vn).
+  std::vector<TexCoord> corner_texcoords;
+  std::vector<Normal> corner_normals;
+  // Per-face attributes: empty, or one per face.
+  std::vector<NamedScalars> face_scalars;
+  // Subdivision tags (OBJ "t crease" / "t corner" / "t interpolateboundary").
+  std::vector<EdgeSharpness> creases;
+  std::vector<VertexSharpness> corners;
+  std::optional<int> boundary_interpolation;  ///< OpenSubdiv's VtxBoundaryInterpolation
+
+  std::size_t n_faces() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
+  std::span<const std::uint32_t> face(std::size_t f) const {
+    return {face_indices.data() + face_offsets[f], face_offsets[f + 1] - face_offsets[f]};
+  }
+  void add_face(std::span<const std::uint32_t> corners) {
+    if (face_offsets.empty()) face_offsets.push_back(0);
+    face_indices.insert(face_indices.end(), corners.begin(), corners.end());
+    face_offsets.push_back(static_cast<std::uint32_t>(face_indices.size()));
+  }
+  void add_face(std::initializer_list<std::uint32_t> corners) {
+    add_face(std::span<const std::uint32_t>(corners.begin(), corners.size()));
+  }
+};
+
+/// Names of the properties that build() creates and to_soup() reads.
+namespace prop {
+inline constexpr const char* kVertexNormal = "v:normal";      // Normal
+inline constexpr const char* kVertexColor = "v:color";        // Color
+inline constexpr const char* kVertexTexCoord = "v:texcoord";  // TexCoord
+inline constexpr const char* kCornerTexCoord = "h:texcoord";  // TexCoord, on the halfedge
+                                                              // that ends at the corner
+inline constexpr const char* kCornerNormal = "h:normal";      // Normal, likewise
+inline constexpr const char* kEdgeSharpness = "e:sharpness";  // double
+inline constexpr const char* kVertexSharpness = "v:sharpness";  // double
+// NamedScalars become double properties "v:<name>" / "f:<name>".
+}  // namespace prop
+
+/// The mesh's live elements as a soup, vertices and faces renumbered densely in index order,
+/// with every property build() knows about carried over.
+PolygonSoup to_soup(const SurfaceMesh& mesh);
+
+}  // namespace geom

@@ -1,0 +1,76 @@
+#pragma once
+/// \file
+/// Mesh files in and out: one reader/writer pair per format (obj.cpp, ply.cpp, off.cpp,
+/// stl.cpp, drc.cpp), dispatched here by file name or by sniffing content. Readers produce a
+/// PolygonSoup and never repair; load_mesh() builds a mesh from it and reports repairs.
+
+#include <geom/core/build.h>
+#include <geom/core/soup.h>
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace geom {
+
+enum class FileFormat { kObj, kPly, kOff, kStl, kDrc };
+
+/// "obj", "ply", … as used in messages and --format options.
+const char* format_name(FileFormat format);
+/// The format named by a path's extension (case-insensitive).
+/// Throws: InvalidArgument naming the extension when it is unknown.
+FileFormat format_from_path(const std::filesystem::path& path);
+/// The format of a buffer judged by its first bytes; nullopt when unrecognised.
+std::optional<FileFormat> sniff_format(std::span<const std::byte> head);
+
+struct ReadOptions {
+  /// Force a format instead of judging by extension/content (needed for "-" = stdin).
+  std::optional<FileFormat> format;
+};
+
+struct WriteOptions {
+  std::optional<FileFormat> format;
+  bool binary = true;  ///< PLY, STL: binary (default) or ASCII; OBJ, OFF are always text
+  /// Draco only: quantisation bits for positions (0 = lossless floats) and compression
+  /// level 0-10.
+  int drc_position_bits = 0;
+  int drc_level = 7;
+  /// OBJ/PLY/OFF: write vertex normals/colours/texcoords when the mesh has them.
+  bool attributes = true;
+};
+
+/// Read a file ("-" is stdin; then options.format is required) into a soup.
+/// Throws: ParseError naming the file and line or byte offset; std::system_error style
+/// geom::Error when the file cannot be opened.
+PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& options = {});
+/// Read from bytes in memory; `name` is used in error messages.
+PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format,
+                      const std::string& name = "<memory>");
+
+/// Write a soup ("-" is stdout; then options.format is required).
+/// Throws: Error when the file cannot be written; InvalidArgument when the format cannot
+/// hold the data (STL with non-triangles is triangulated, not refused).
+void write_soup(const PolygonSoup& soup, const std::filesystem::path& path,
+                const WriteOptions& options = {});
+
+/// Write a soup to bytes in memory (what write_soup(soup, path) would put in the file).
+/// Throws: as write_soup.
+std::vector<std::byte> write_soup(const PolygonSoup& soup, FileFormat format,
+                                  const WriteOptions& options = {});
+
+struct LoadResult {
+  SurfaceMesh mesh;
+  BuildReport report;
+};
+/// read_soup + build.
+LoadResult load_mesh(const std::filesystem::path& path, const ReadOptions& read = {},
+                     const BuildOptions& build = {});
+/// to_soup + write_soup.
+void save_mesh(const SurfaceMesh& mesh, const std::filesystem::path& path,
+               const WriteOptions& options = {});
+
+}  // namespace geom
