@@ -19,6 +19,14 @@ namespace geom {
 
 namespace detail {
 
+/// The value new elements get when a property names none: zero for Eigen vectors (whose
+/// default constructor leaves them uninitialised), value-initialised otherwise.
+template <class T>
+T zero_value() {
+  if constexpr (requires { T::Zero(); }) return T::Zero();
+  else return T{};
+}
+
 class BasePropertyArray {
  public:
   explicit BasePropertyArray(std::string name) : name_(std::move(name)) {}

@@ -175,7 +175,7 @@ class SurfaceMesh {
   /// Add a property named `name` on elements of kind H. Names by convention start with the
   /// kind: "v:", "h:", "e:", "f:". Throws: InvalidArgument if the name is taken.
   template <class H, class T>
-  Property<H, T> add_property(const std::string& name, T default_value = T()) {
+  Property<H, T> add_property(const std::string& name, T default_value = detail::zero_value<T>()) {
     return Property<H, T>(props<H>().template add<T>(name, std::move(default_value)));
   }
   /// The property, or a null handle when absent (or of another type).
@@ -188,7 +188,8 @@ class SurfaceMesh {
     return Property<H, const T>(props<H>().template get<T>(name));
   }
   template <class H, class T>
-  Property<H, T> get_or_add_property(const std::string& name, T default_value = T()) {
+  Property<H, T> get_or_add_property(const std::string& name,
+                                     T default_value = detail::zero_value<T>()) {
     auto p = get_property<H, T>(name);
     return p ? p : add_property<H, T>(name, std::move(default_value));
   }
