@@ -21,7 +21,18 @@ Projector::Projector(const Camera& camera, int w, int h, const Eigen::AlignedBox
 
 std::size_t draw_wireframe(const FlatScene& flat, const Projector& proj, int thickness, Frame& frame) {
   const Eigen::Vector3f ink(0.02f, 0.025f, 0.04f);
-  const float alpha = 0.8f;
+  // Dense meshes would drown in ink: fade the lines when edges are only a few pixels long.
+  double sum = 0;
+  std::size_t sampled = 0;
+  const std::size_t stride = std::max<std::size_t>(1, flat.edges.size() / 2000);
+  for (std::size_t i = 0; i < flat.edges.size(); i += stride) {
+    Eigen::Vector4d a = proj.clip(flat.edges[i][0]), b = proj.clip(flat.edges[i][1]);
+    if (a.w() <= 0 || b.w() <= 0) continue;
+    sum += (proj.screen(a) - proj.screen(b)).norm() / thickness;
+    ++sampled;
+  }
+  const double mean_px = sampled ? sum / sampled : 10.0;
+  const float alpha = static_cast<float>(std::clamp(mean_px / 10.0, 0.2, 0.8));
   std::size_t drawn = 0;
   for (const auto& e : flat.edges) {
     Eigen::Vector4d a = proj.clip(e[0]), b = proj.clip(e[1]);
