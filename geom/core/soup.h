@@ -78,6 +78,13 @@ inline constexpr const char* kVertexSharpness = "v:sharpness";  // double
 // NamedScalars become double properties "v:<name>" / "f:<name>".
 }  // namespace prop
 
+/// Check that the soup's arrays agree: face_offsets empty or starting at 0, never
+/// decreasing and ending at face_indices.size(); every per-vertex, per-corner and per-face
+/// attribute empty or of the right length. Indices are not checked (build() reports those).
+/// Throws: InvalidArgument naming the array, the length found and the one expected.
+/// Complexity: O(F).
+void check_soup(const PolygonSoup& soup);
+
 /// The mesh's live elements as a soup, vertices and faces renumbered densely in index order,
 /// with every property build() knows about carried over.
 PolygonSoup to_soup(const SurfaceMesh& mesh);

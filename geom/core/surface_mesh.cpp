@@ -571,6 +571,10 @@ bool SurfaceMesh::can_collapse(Halfedge h) const {
     if (find_halfedge(w, v1).is_valid()) return false;
   }
   if (vl.is_valid() && vl == vr) return false;
+  // An apex with only the two edges of its vanishing triangle would be left hanging on a
+  // single edge inside the neighbouring face (possible next to polygons).
+  for (Vertex apex_vertex : {vl, vr})
+    if (apex_vertex.is_valid() && valence(apex_vertex) <= 2) return false;
   return !collapse_would_fold_tetrahedron(h, vl, vr);
 }
 

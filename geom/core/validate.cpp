@@ -1,6 +1,8 @@
 #include <geom/core/validate.h>
 
+#include <algorithm>
 #include <sstream>
+#include <vector>
 
 namespace geom {
 namespace {
@@ -80,8 +82,17 @@ void check_faces(const SurfaceMesh& m, Collector& out) {
       if (m.face(x) != f) { out.add(f, "loop contains a halfedge of another face"); break; }
       x = m.next(x);
     } while (x != h && ++n <= m.halfedges_size());
-    if (n > m.halfedges_size()) out.add(f, "halfedge loop does not close");
-    else if (n + 1 < 3) out.add(f, "has fewer than 3 corners");
+    if (n > m.halfedges_size()) {
+      out.add(f, "halfedge loop does not close");
+      continue;
+    }
+    if (n + 1 < 3) out.add(f, "has fewer than 3 corners");
+    // A face may not pass through a vertex twice (a dangling edge inside it would).
+    std::vector<std::uint32_t> corners;
+    for (Vertex v : m.vertices(f)) corners.push_back(v.idx());
+    std::sort(corners.begin(), corners.end());
+    if (std::adjacent_find(corners.begin(), corners.end()) != corners.end())
+      out.add(f, "visits a vertex twice");
   }
 }
 

@@ -338,3 +338,39 @@ TEST(Memory, BytesPerElementDoNotCreep) {
 
 }  // namespace
 }  // namespace geom
+
+namespace geom {
+namespace {
+
+TEST(Editing, CollapseRefusesToLeaveADanglingApexNextToAPolygon) {
+  // A triangle (a, b, c) whose apex c has valence 2, glued to a quad (b, a, c... ) along
+  // both of c's edges: collapsing a into b would leave c hanging inside the quad.
+  SurfaceMesh m;
+  Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({0.5, 1, 0});
+  Vertex d = m.add_vertex({0.5, -1, 0});
+  m.add_triangle(a, b, c);
+  m.add_quad(b, d, a, c);
+  EXPECT_VALID(m);
+  EXPECT_EQ(m.valence(c), 2u);
+  Halfedge h = m.find_halfedge(a, b);
+  EXPECT_FALSE(m.can_collapse(h));
+  EXPECT_THROW(m.collapse(h), TopologyError);
+  EXPECT_VALID(m);
+}
+
+TEST(Validate, FlagsAFaceThatVisitsAVertexTwice) {
+  SurfaceMesh m;
+  Vertex a = m.add_vertex({0, 0, 0}), b = m.add_vertex({1, 0, 0}), c = m.add_vertex({0, 1, 0});
+  m.add_triangle(a, b, c);
+  // Re-point one halfedge so the loop passes through a twice: a broken invariant by hand.
+  Halfedge h = m.find_halfedge(b, c);
+  m.set_vertex(h, a);
+  auto report = validate(m);
+  EXPECT_FALSE(report.ok());
+  bool named = false;
+  for (const auto& p : report.problems) named |= p.find("visits a vertex twice") != std::string::npos;
+  EXPECT_TRUE(named) << report.to_string();
+}
+
+}  // namespace
+}  // namespace geom
