@@ -1,0 +1,312 @@
+// geom's mesh codec against Draco (Edgebreaker, cl 7 and cl 10) and meshoptimizer's
+// index/vertex codecs, on the same meshes with the same position bits: bytes, bits per
+// vertex (connectivity / geometry), encode and decode time, max position error. Then a
+// quantisation sweep (8…16 bits) of size, max/RMS error and time.
+//
+// Usage: bench_compress [--quick]   (--quick: a 100k-triangle synthetic mesh, no sweep)
+
+#include "support/harness.h"
+
+#include <geom/compress/container/codec.h>
+#include <geom/io/io.h>
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+#include <meshoptimizer.h>
+
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <unordered_map>
+
+using namespace geom;
+using namespace geom::bench;
+
+namespace {
+
+struct Flat {
+  std::string name;
+  std::vector<Point> points;
+  std::vector<std::uint32_t> tris;
+};
+
+Flat flatten_triangles(const std::string& name, const SurfaceMesh& m) {
+  Flat f{name, {}, {}};
+  std::vector<std::uint32_t> dense(m.vertices_size());
+  for (Vertex v : m.vertices()) {
+    dense[v.idx()] = static_cast<std::uint32_t>(f.points.size());
+    f.points.push_back(m.position(v));
+  }
+  for (Face fc : m.faces()) {
+    std::vector<std::uint32_t> c;
+    for (Vertex v : m.vertices(fc)) c.push_back(dense[v.idx()]);
+    for (std::size_t i = 1; i + 1 < c.size(); ++i) f.tris.insert(f.tris.end(), {c[0], c[i], c[i + 1]});
+  }
+  return f;
+}
+
+SurfaceMesh build(const Flat& f) {
+  SurfaceMesh m;
+  m.reserve(f.points.size(), f.tris.size() / 2 + f.points.size(), f.tris.size() / 3);
+  for (const Point& p : f.points) m.add_vertex(p);
+  for (std::size_t t = 0; t < f.tris.size(); t += 3)
+    m.add_triangle(Vertex(f.tris[t]), Vertex(f.tris[t + 1]), Vertex(f.tris[t + 2]));
+  return m;
+}
+
+/// 1-to-4 midpoint subdivision with jittered new vertices.
+Flat subdivide(const Flat& in, std::mt19937& rng, double jitter) {
+  Flat out{in.name, in.points, {}};
+  std::unordered_map<std::uint64_t, std::uint32_t> mid;
+  mid.reserve(in.tris.size());
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    auto [it, fresh] = mid.try_emplace(key, static_cast<std::uint32_t>(out.points.size()));
+    if (fresh) {
+      const double len = (in.points[a] - in.points[b]).norm();
+      out.points.push_back(0.5 * (in.points[a] + in.points[b]) +
+                           jitter * len * Eigen::Vector3d(n(rng), n(rng), n(rng)));
+    }
+    return it->second;
+  };
+  for (std::size_t t = 0; t < in.tris.size(); t += 3) {
+    const std::uint32_t a = in.tris[t], b = in.tris[t + 1], c = in.tris[t + 2];
+    const std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+    out.tris.insert(out.tris.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
+  }
+  return out;
+}
+
+/// Irregular, shuffled ~1M-triangle mesh: a real mesh subdivided twice with jitter, a
+/// quarter of its edges flipped at random, vertex and face order shuffled.
+Flat big_mesh(const Flat& base, std::size_t target_tris) {
+  std::mt19937 rng(2024);
+  Flat f = base;
+  while (f.tris.size() / 3 * 4 <= target_tris * 5 / 4) f = subdivide(f, rng, 0.05);
+  SurfaceMesh m = build(f);
+  std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(m.n_edges() - 1));
+  for (std::size_t i = 0; i < m.n_edges() / 4; ++i) {
+    const Edge e(pick(rng));
+    if (m.can_flip(e)) m.flip(e);
+  }
+  f = flatten_triangles(base.name, m);
+  std::vector<std::uint32_t> perm(f.points.size());
+  std::iota(perm.begin(), perm.end(), 0u);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  Flat s{base.name + "-sub-flip-shuffled", std::vector<Point>(f.points.size()), {}};
+  for (std::size_t i = 0; i < perm.size(); ++i) s.points[perm[i]] = f.points[i];
+  std::vector<std::uint32_t> order(f.tris.size() / 3);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), rng);
+  for (std::uint32_t t : order)
+    for (int j = 0; j < 3; ++j) s.tris.push_back(perm[f.tris[3 * t + j]]);
+  return s;
+}
+
+Flat torus(int nu, int nv) {
+  Flat f{"torus", {}, {}};
+  const double pi = std::acos(-1.0);
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const double u = 2 * pi * i / nu, v = 2 * pi * j / nv;
+      f.points.push_back({(3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>((j % nv) * nu + (i % nu)); };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      f.tris.insert(f.tris.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+  return f;
+}
+
+struct Row {
+  std::string codec;
+  std::size_t bytes = 0, conn_bytes = 0, geom_bytes = 0;
+  double enc = 0, dec = 0, dec_flat = 0, max_err = 0;
+  bool err_is_bound = false;
+};
+
+Row run_ours(const Flat& f, const SurfaceMesh& m, unsigned bits, int level, bool preserve) {
+  Row r;
+  r.codec = std::string("geom L") + std::to_string(level) + (preserve ? " ordered" : "");
+  CompressResult c;
+  r.enc = time_min([&] { c = compress(m, {.bits = bits, .level = level, .preserve_order = preserve}); }, 2);
+  r.bytes = c.bytes.size();
+  r.conn_bytes = c.stats.connectivity_bytes + c.stats.order_bytes;
+  r.geom_bytes = c.stats.geometry_bytes;
+  codec::FlatDecode fd;
+  r.dec_flat = time_min([&] { fd = codec::decompress_flat(c.bytes); }, 3);
+  DecompressResult d;
+  r.dec = time_min([&] { d = decompress(c.bytes); }, 2);
+  std::size_t i = 0;
+  for (Vertex v : d.mesh.vertices()) {
+    const Point& p = f.points[c.vertex_permutation[i++]];
+    r.max_err = std::max(r.max_err, (d.mesh.position(v) - p).cwiseAbs().maxCoeff());
+  }
+  return r;
+}
+
+Row run_draco(const Flat& f, unsigned bits, int cl) {
+  Row r;
+  r.codec = "draco cl" + std::to_string(cl);
+  draco::Mesh dm;
+  draco::GeometryAttribute ga;
+  ga.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
+  const int att = dm.AddAttribute(ga, true, static_cast<std::uint32_t>(f.points.size()));
+  for (std::size_t i = 0; i < f.points.size(); ++i) {
+    const float p[3] = {float(f.points[i].x()), float(f.points[i].y()), float(f.points[i].z())};
+    dm.attribute(att)->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)), p);
+  }
+  for (std::size_t t = 0; t < f.tris.size(); t += 3)
+    dm.AddFace({draco::PointIndex(f.tris[t]), draco::PointIndex(f.tris[t + 1]), draco::PointIndex(f.tris[t + 2])});
+  dm.set_num_points(static_cast<std::uint32_t>(f.points.size()));
+  draco::EncoderBuffer buf;
+  r.enc = time_min([&] {
+    draco::Encoder enc;
+    enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, static_cast<int>(bits));
+    enc.SetSpeedOptions(10 - cl, 10 - cl);
+    enc.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+    buf.Clear();
+    if (!enc.EncodeMeshToBuffer(dm, &buf).ok()) throw Error("draco encode failed");
+  }, 2);
+  r.bytes = buf.size();
+  r.dec = time_min([&] {
+    draco::DecoderBuffer db;
+    db.Init(buf.data(), buf.size());
+    draco::Decoder dec;
+    auto res = dec.DecodeMeshFromBuffer(&db);
+    if (!res.ok()) throw Error("draco decode failed");
+  }, 3);
+  r.dec_flat = r.dec;
+  Eigen::Vector3d lo = f.points[0], hi = f.points[0];
+  for (const Point& p : f.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  r.max_err = 0.5 * (hi - lo).maxCoeff() / double((1u << bits) - 1);
+  r.err_is_bound = true;
+  return r;
+}
+
+Row run_meshopt(const Flat& f, unsigned bits) {
+  Row r;
+  r.codec = "meshopt";
+  struct QV { std::uint16_t x, y, z, w; };
+  Eigen::Vector3d lo = f.points[0], hi = f.points[0];
+  for (const Point& p : f.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double step = (hi - lo).maxCoeff() / double((1u << bits) - 1);
+  std::vector<std::uint8_t> ib, vb;
+  std::vector<std::uint32_t> remap(f.points.size());
+  const std::size_t nv = f.points.size(), ni = f.tris.size();
+  r.enc = time_min([&] {
+    std::vector<std::uint32_t> idx(ni);
+    meshopt_optimizeVertexCache(idx.data(), f.tris.data(), ni, nv);
+    std::vector<QV> q(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+      const Eigen::Vector3d t = ((f.points[i] - lo) / step).array().round();
+      q[i] = {std::uint16_t(t.x()), std::uint16_t(t.y()), std::uint16_t(t.z()), 0};
+    }
+    std::vector<QV> qo(nv);
+    meshopt_optimizeVertexFetchRemap(remap.data(), idx.data(), ni, nv);
+    meshopt_remapIndexBuffer(idx.data(), idx.data(), ni, remap.data());
+    meshopt_remapVertexBuffer(qo.data(), q.data(), nv, sizeof(QV), remap.data());
+    ib.resize(meshopt_encodeIndexBufferBound(ni, nv));
+    ib.resize(meshopt_encodeIndexBuffer(ib.data(), ib.size(), idx.data(), ni));
+    vb.resize(meshopt_encodeVertexBufferBound(nv, sizeof(QV)));
+    vb.resize(meshopt_encodeVertexBuffer(vb.data(), vb.size(), qo.data(), nv, sizeof(QV)));
+  }, 2);
+  r.bytes = ib.size() + vb.size();
+  r.conn_bytes = ib.size();
+  r.geom_bytes = vb.size();
+  std::vector<std::uint32_t> idx(ni);
+  std::vector<QV> qv(nv);
+  r.dec = time_min([&] {
+    if (meshopt_decodeIndexBuffer(idx.data(), ni, 4, ib.data(), ib.size()) != 0 ||
+        meshopt_decodeVertexBuffer(qv.data(), nv, sizeof(QV), vb.data(), vb.size()) != 0)
+      throw Error("meshopt decode failed");
+  }, 3);
+  r.dec_flat = r.dec;
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (remap[i] == ~0u) continue;  // unreferenced vertex: meshopt drops it
+    const QV& q = qv[remap[i]];
+    const Eigen::Vector3d p = lo + step * Eigen::Vector3d(q.x, q.y, q.z);
+    r.max_err = std::max(r.max_err, (p - f.points[i]).cwiseAbs().maxCoeff());
+  }
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  const unsigned bits = 11;
+  std::vector<Flat> meshes;
+  const auto dir = data_dir();
+  Flat bunny;
+  if (dir) {
+    for (const char* name : {"nefertiti.obj", "armadillo.obj", "stanford-bunny.obj", "bunny_closed.off"}) {
+      try {
+        Flat f = flatten_triangles(name, load_mesh(*dir / name).mesh);
+        if (std::string(name) == "bunny_closed.off") bunny = f;
+        else meshes.push_back(std::move(f));
+      } catch (const std::exception& e) {
+        std::cerr << "skip " << name << ": " << e.what() << '\n';
+      }
+    }
+  }
+  if (bunny.tris.empty()) bunny = torus(200, 150);
+  meshes.insert(meshes.begin(), big_mesh(bunny, quick ? 100000 : 1000000));
+
+  Table table({"mesh", "V", "F", "codec", "bytes", "bpv", "bpv_conn", "bpv_geom", "encode_ms",
+               "decode_ms", "decode_flat_ms", "max_err", "size/draco_cl10", "dec/draco_cl10"});
+  for (const Flat& f : meshes) {
+    const SurfaceMesh m = build(f);
+    std::vector<Row> rows;
+    rows.push_back(run_draco(f, bits, 7));
+    rows.push_back(run_draco(f, bits, 10));
+    rows.push_back(run_meshopt(f, bits));
+    for (int level : {0, 3, 7, 9}) rows.push_back(run_ours(f, m, bits, level, false));
+    rows.push_back(run_ours(f, m, bits, 7, true));
+    const Row& d10 = rows[1];
+    const double nv = static_cast<double>(f.points.size());
+    for (const Row& r : rows) {
+      table.add({f.name, std::to_string(f.points.size()), std::to_string(f.tris.size() / 3), r.codec,
+                 std::to_string(r.bytes), fmt(8.0 * r.bytes / nv, 4),
+                 r.conn_bytes ? fmt(8.0 * r.conn_bytes / nv, 4) : "-",
+                 r.geom_bytes ? fmt(8.0 * r.geom_bytes / nv, 4) : "-", fmt(1e3 * r.enc, 4),
+                 fmt(1e3 * r.dec, 4), fmt(1e3 * r.dec_flat, 4),
+                 fmt(r.max_err, 3) + (r.err_is_bound ? " (bound)" : ""),
+                 ratio(double(r.bytes), double(d10.bytes)), ratio(r.dec_flat, d10.dec)});
+    }
+  }
+  table.print();
+  table.write_csv(out_dir() / "compress.csv");
+  if (quick) return 0;
+
+  // What accuracy costs: bits against size, error and time on the big mesh.
+  Table sweep({"bits", "bytes", "bpv", "max_err", "rms_err", "encode_ms", "decode_ms",
+               "draco_cl10_bytes"});
+  const Flat& f = meshes.front();
+  const SurfaceMesh m = build(f);
+  for (unsigned b = 8; b <= 16; ++b) {
+    CompressResult c;
+    const double enc = time_min([&] { c = compress(m, {.bits = b}); }, 1);
+    codec::FlatDecode fd;
+    const double dec = time_min([&] { fd = codec::decompress_flat(c.bytes); }, 2);
+    double maxe = 0, sum = 0;
+    for (std::size_t i = 0; i < c.vertex_permutation.size(); ++i) {
+      const Point& p = f.points[c.vertex_permutation[i]];
+      const Eigen::Vector3d d(fd.positions[3 * i] - p.x(), fd.positions[3 * i + 1] - p.y(),
+                              fd.positions[3 * i + 2] - p.z());
+      maxe = std::max(maxe, d.cwiseAbs().maxCoeff());
+      sum += d.squaredNorm();
+    }
+    const Row d10 = run_draco(f, b, 10);
+    sweep.add({std::to_string(b), std::to_string(c.bytes.size()),
+               fmt(8.0 * c.bytes.size() / f.points.size(), 4), fmt(maxe, 3),
+               fmt(std::sqrt(sum / f.points.size()), 3), fmt(1e3 * enc, 4), fmt(1e3 * dec, 4),
+               std::to_string(d10.bytes)});
+  }
+  sweep.print();
+  sweep.write_csv(out_dir() / "compress_bits.csv");
+  return 0;
+}

@@ -1,0 +1,429 @@
+#include <geom/compress/connectivity.h>
+
+#include <string>
+
+namespace geom::codec::detail {
+
+namespace {
+
+// R2 / L2: two steps along the open boundary — the vertex beyond a neighbour whose fan
+// lacks a single triangle; frequent on irregular meshes, so they get their own symbols.
+enum Symbol : unsigned {
+  kNew = 0, kRight = 1, kLeft = 2, kBoundary = 3, kOther = 4, kRight2 = 5, kLeft2 = 6
+};
+constexpr unsigned kSymbols = 7;
+constexpr unsigned kFanClasses = 7;
+constexpr unsigned kGateContexts = kFanClasses * kFanClasses * 4;
+
+/// The models both sides keep. The gate symbol's context is how many decoded triangles
+/// already surround each gate vertex (a nearly full fan is likely to close: R at the
+/// target, L at the source — the valence idea of Touma–Gotsman) and which of the two
+/// boundary neighbours exist, since a missing neighbour rules a symbol out.
+struct Models {
+  std::vector<AdaptiveModel> gate = std::vector<AdaptiveModel>(kGateContexts, AdaptiveModel(kSymbols));
+  AdaptiveModel seed_new{2};
+  AdaptiveModel diagonal[2] = {AdaptiveModel(2), AdaptiveModel(2)};
+  GammaModel other;
+  AdaptiveModel other_on_boundary{2};
+  GammaModel walk;
+  GammaModel seed_other;
+};
+
+/// The open boundary of the decoded region. A gate is a directed edge of a decoded triangle
+/// whose other side is not decoded yet; gates are threaded on per-vertex lists (outgoing
+/// and incoming) so the boundary neighbours and the zip partner are found in O(1)/O(valence).
+struct Gate {
+  std::uint32_t from, to, corner;
+  std::uint32_t next_out, prev_out, next_in, prev_in;
+  bool open;
+};
+
+class Region {
+ public:
+  explicit Region(std::size_t n_triangles) {
+    // Every edge opens at most one gate: E ≤ 3T/2 (+3 for a seed).
+    gates_.reserve(n_triangles + n_triangles / 2 + 3);
+    out_head_.reserve(n_triangles / 2 + 3);
+    in_head_.reserve(n_triangles / 2 + 3);
+  }
+  std::uint32_t add_vertex() {
+    out_head_.push_back(kNone);
+    in_head_.push_back(kNone);
+    fan_.push_back(0);
+    return static_cast<std::uint32_t>(out_head_.size() - 1);
+  }
+  std::uint32_t n_vertices() const { return static_cast<std::uint32_t>(out_head_.size()); }
+  /// Decoded triangles around v, saturated at kFanClasses − 1.
+  unsigned fan(std::uint32_t v) const { return fan_[v]; }
+  void add_corner(std::uint32_t v) {
+    if (fan_[v] < kFanClasses - 1) ++fan_[v];
+  }
+  const Gate& gate(std::uint32_t g) const { return gates_[g]; }
+
+  /// The open gate from a to b, or kNone.
+  std::uint32_t find(std::uint32_t a, std::uint32_t b) const {
+    for (std::uint32_t g = out_head_[a]; g != kNone; g = gates_[g].next_out)
+      if (gates_[g].to == b) return g;
+    return kNone;
+  }
+  /// The boundary vertex after v (head of v's outgoing gates), or kNone.
+  std::uint32_t after(std::uint32_t v) const {
+    const std::uint32_t g = out_head_[v];
+    return g == kNone ? kNone : gates_[g].to;
+  }
+  /// The boundary vertex before v (tail of v's first incoming gate), or kNone.
+  std::uint32_t before(std::uint32_t v) const {
+    const std::uint32_t g = in_head_[v];
+    return g == kNone ? kNone : gates_[g].from;
+  }
+  std::uint32_t open(std::uint32_t from, std::uint32_t to, std::uint32_t corner) {
+    const auto id = static_cast<std::uint32_t>(gates_.size());
+    gates_.push_back({from, to, corner, out_head_[from], kNone, in_head_[to], kNone, true});
+    if (out_head_[from] != kNone) gates_[out_head_[from]].prev_out = id;
+    out_head_[from] = id;
+    if (in_head_[to] != kNone) gates_[in_head_[to]].prev_in = id;
+    in_head_[to] = id;
+    return id;
+  }
+  void close(std::uint32_t id) {
+    Gate& g = gates_[id];
+    if (!g.open) return;
+    g.open = false;
+    if (g.prev_out != kNone) gates_[g.prev_out].next_out = g.next_out;
+    else out_head_[g.from] = g.next_out;
+    if (g.next_out != kNone) gates_[g.next_out].prev_out = g.prev_out;
+    if (g.prev_in != kNone) gates_[g.prev_in].next_in = g.next_in;
+    else in_head_[g.to] = g.next_in;
+    if (g.next_in != kNone) gates_[g.next_in].prev_in = g.prev_in;
+  }
+
+ private:
+  std::vector<Gate> gates_;
+  std::vector<std::uint32_t> out_head_, in_head_;
+  std::vector<std::uint8_t> fan_;
+};
+
+/// An "other" vertex is usually on the open boundary a few steps beyond the neighbours
+/// (Edgebreaker's split offset): step i alternates forward from v and backward from u.
+constexpr std::uint32_t kWalkLimit = 4096;
+
+/// The vertex at walk position j (j = 2·i + direction), or kNone when the walk ends first.
+std::uint32_t walk_to(const Region& region, std::uint32_t u, std::uint32_t v, std::uint32_t j) {
+  std::uint32_t x = (j & 1) ? u : v;
+  for (std::uint32_t i = 0; i <= j / 2; ++i) {
+    x = (j & 1) ? region.before(x) : region.after(x);
+    if (x == kNone) return kNone;
+  }
+  return x;
+}
+
+/// The smallest walk position reaching w, or kNone.
+std::uint32_t walk_find(const Region& region, std::uint32_t u, std::uint32_t v, std::uint32_t w) {
+  std::uint32_t f = v, b = u;
+  for (std::uint32_t i = 0; i < kWalkLimit && (f != kNone || b != kNone); ++i) {
+    if (f != kNone) {
+      f = region.after(f);
+      if (f == w) return 2 * i;
+      if (f == v) f = kNone;
+    }
+    if (b != kNone) {
+      b = region.before(b);
+      if (b == w) return 2 * i + 1;
+      if (b == u) b = kNone;
+    }
+  }
+  return kNone;
+}
+
+/// The growth procedure shared by encoder and decoder; the Driver supplies the decisions
+/// (the encoder reads them off the input and codes them, the decoder reads them from the
+/// stream), so both sides build the same table by construction.
+template <class Driver>
+void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal,
+          CornerTable& out) {
+  out.vertex.clear();
+  out.vertex.reserve(3 * n_triangles);
+  out.opposite.clear();
+  out.opposite.reserve(3 * n_triangles);
+  out.diagonal.clear();
+  if (polygons) out.diagonal.reserve(3 * n_triangles);
+  Region region(n_triangles);
+  std::vector<std::uint32_t> stack;
+
+  auto pair = [&](std::uint32_t a, std::uint32_t b) {
+    out.opposite[a] = b;
+    out.opposite[b] = a;
+    if (polygons) {
+      const std::uint8_t diag = d.diagonal(a, b);
+      out.diagonal[a] = out.diagonal[b] = diag;
+    }
+  };
+  auto add_triangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const auto t = static_cast<std::uint32_t>(out.vertex.size() / 3);
+    out.vertex.insert(out.vertex.end(), {a, b, c});
+    out.opposite.insert(out.opposite.end(), {kNone, kNone, kNone});
+    region.add_corner(a);
+    region.add_corner(b);
+    region.add_corner(c);
+    if (polygons) out.diagonal.insert(out.diagonal.end(), {0, 0, 0});
+    return t;
+  };
+  // Zip edge from→to (opposite corner k) with the open reverse gate, or open a new gate.
+  auto attach = [&](std::uint32_t from, std::uint32_t to, std::uint32_t k) {
+    const std::uint32_t g = region.find(to, from);
+    if (g != kNone) {
+      d.check_zip(k, region.gate(g).corner);
+      pair(k, region.gate(g).corner);
+      region.close(g);
+      return kNone;
+    }
+    return region.open(from, to, k);
+  };
+
+  while (out.vertex.size() < 3 * n_triangles) {
+    d.begin_seed();
+    std::uint32_t s[3];
+    for (int j = 0; j < 3; ++j) s[j] = d.seed_vertex(j, region);
+    if (s[0] == s[1] || s[1] == s[2] || s[0] == s[2]) d.fail("seed triangle repeats a vertex");
+    const std::uint32_t t = add_triangle(s[0], s[1], s[2]);
+    d.on_triangle(t);
+    for (int j = 0; j < 3; ++j) {
+      const std::uint32_t k = 3 * t + static_cast<std::uint32_t>(j);
+      const std::uint32_t g = attach(out.vertex[next_corner(k)], out.vertex[prev_corner(k)], k);
+      if (g != kNone) stack.push_back(g);
+    }
+    while (!stack.empty()) {
+      const std::uint32_t gid = stack.back();
+      stack.pop_back();
+      const Gate gate = region.gate(gid);
+      if (!gate.open) continue;
+      const std::uint32_t u = gate.from, v = gate.to;
+      const std::uint32_t right = region.after(v), left = region.before(u);
+      const unsigned ctx = (region.fan(v) * kFanClasses + region.fan(u)) * 4 +
+                           (right != kNone ? 2 : 0) + (left != kNone ? 1 : 0);
+      std::uint32_t w = kNone;
+      const unsigned sym = d.gate_symbol(ctx, gate, right, left, region, w);
+      if (sym == kBoundary) {
+        region.close(gid);
+        continue;
+      }
+      if (w == u || w == v) d.fail("grown triangle repeats a gate vertex");
+      region.close(gid);
+      const std::uint32_t nt = add_triangle(v, u, w);
+      d.on_triangle(nt);
+      pair(3 * nt + 2, gate.corner);
+      // New edges: u→w (opposite corner v) and w→v (opposite corner u).
+      std::uint32_t ga, gb;
+      if (traversal == Traversal::kRightFirst) {
+        gb = attach(w, v, 3 * nt + 1);
+        ga = attach(u, w, 3 * nt + 0);
+        if (gb != kNone) stack.push_back(gb);
+        if (ga != kNone) stack.push_back(ga);
+      } else {
+        ga = attach(u, w, 3 * nt + 0);
+        gb = attach(w, v, 3 * nt + 1);
+        if (ga != kNone) stack.push_back(ga);
+        if (gb != kNone) stack.push_back(gb);
+      }
+    }
+  }
+  out.n_vertices = region.n_vertices();
+}
+
+class Encoder {
+ public:
+  Encoder(const CornerTable& in, RansEncoder& rans, BitWriter& raw, TraversalOrder& order)
+      : in_(in), rans_(rans), raw_(raw), order_(order),
+        dec_id_(in.n_vertices, kNone), visited_(in.n_triangles(), 0) {
+    order_.vertex_origin.clear();
+    order_.corner_origin.clear();
+    order_.corner_origin.reserve(in.vertex.size());
+  }
+
+  void begin_seed() {
+    while (visited_[seed_cursor_]) ++seed_cursor_;
+    pending_ = 3 * seed_cursor_;
+    seeding_ = true;
+  }
+  std::uint32_t seed_vertex(int j, Region& region) {
+    const std::uint32_t orig = in_.vertex[pending_ + static_cast<std::uint32_t>(j)];
+    std::uint32_t& id = dec_id_[orig];
+    if (id == kNone) {
+      rans_.encode(m_.seed_new, 1);
+      id = region.add_vertex();
+      order_.vertex_origin.push_back(orig);
+    } else {
+      rans_.encode(m_.seed_new, 0);
+      m_.seed_other.encode(rans_, raw_, region.n_vertices() - 1 - id);
+    }
+    return id;
+  }
+  void on_triangle(std::uint32_t) {
+    // pending_ is the input corner that becomes decoded corner 2 (gates) or corner 0 (seeds).
+    std::uint32_t c0, c1, c2;
+    if (seeding_) {
+      c0 = pending_, c1 = pending_ + 1, c2 = pending_ + 2;
+    } else {
+      c0 = next_corner(pending_), c1 = prev_corner(pending_), c2 = pending_;
+    }
+    visited_[pending_ / 3] = 1;
+    order_.corner_origin.insert(order_.corner_origin.end(), {c0, c1, c2});
+    seeding_ = true;
+  }
+  unsigned gate_symbol(unsigned ctx, const Gate& gate, std::uint32_t right, std::uint32_t left,
+                       Region& region, std::uint32_t& w) {
+    const std::uint32_t oc = order_.corner_origin[gate.corner];
+    const std::uint32_t oo = in_.opposite[oc];
+    unsigned sym;
+    if (oo == kNone) {
+      sym = kBoundary;
+    } else {
+      if (visited_[oo / 3]) throw InvalidArgument("compress: inconsistent opposite table");
+      const std::uint32_t orig = in_.vertex[oo];
+      std::uint32_t& id = dec_id_[orig];
+      if (id == kNone) {
+        sym = kNew;
+        id = region.add_vertex();
+        order_.vertex_origin.push_back(orig);
+      } else if (id == right) {
+        sym = kRight;
+      } else if (id == left) {
+        sym = kLeft;
+      } else if (right != kNone && id == region.after(right)) {
+        sym = kRight2;
+      } else if (left != kNone && id == region.before(left)) {
+        sym = kLeft2;
+      } else {
+        sym = kOther;
+      }
+      w = id;
+      pending_ = oo;
+      seeding_ = false;
+    }
+    rans_.encode(m_.gate[ctx], sym);
+    if (sym == kOther) {
+      const std::uint32_t j = walk_find(region, gate.from, gate.to, w);
+      rans_.encode(m_.other_on_boundary, j != kNone);
+      if (j != kNone) m_.walk.encode(rans_, raw_, j);
+      else m_.other.encode(rans_, raw_, region.n_vertices() - 1 - w);
+    }
+    return sym;
+  }
+  std::uint8_t diagonal(std::uint32_t a, std::uint32_t) {
+    const std::uint8_t diag = in_.diagonal[order_.corner_origin[a]];
+    rans_.encode(m_.diagonal[last_diag_], diag);
+    last_diag_ = diag;
+    return diag;
+  }
+  void check_zip(std::uint32_t k, std::uint32_t partner) {
+    if (in_.opposite[order_.corner_origin[k]] != order_.corner_origin[partner])
+      throw InvalidArgument("compress: a directed edge occurs twice (non-manifold input)");
+  }
+  [[noreturn]] void fail(const char* what) {
+    throw InvalidArgument(std::string("compress: ") + what);
+  }
+
+ private:
+  const CornerTable& in_;
+  RansEncoder& rans_;
+  BitWriter& raw_;
+  TraversalOrder& order_;
+  Models m_;
+  std::vector<std::uint32_t> dec_id_;
+  std::vector<std::uint8_t> visited_;
+  std::uint32_t seed_cursor_ = 0;
+  std::uint32_t pending_ = 0;
+  bool seeding_ = true;
+  unsigned last_diag_ = 0;
+};
+
+class Decoder {
+ public:
+  Decoder(RansDecoder& rans, BitReader& raw, std::size_t n_triangles)
+      : rans_(rans), raw_(raw), max_vertices_(3 * n_triangles) {}
+
+  void begin_seed() {}
+  std::uint32_t seed_vertex(int, Region& region) {
+    if (rans_.decode(m_.seed_new)) return new_vertex(region);
+    const std::uint32_t back = m_.seed_other.decode(rans_, raw_);
+    if (back >= region.n_vertices()) fail("seed vertex reference out of range");
+    return region.n_vertices() - 1 - back;
+  }
+  void on_triangle(std::uint32_t) {}
+  unsigned gate_symbol(unsigned ctx, const Gate& gate, std::uint32_t right, std::uint32_t left,
+                       Region& region, std::uint32_t& w) {
+    const unsigned sym = rans_.decode(m_.gate[ctx]);
+    switch (sym) {
+      case kNew: w = new_vertex(region); break;
+      case kRight:
+        if (right == kNone) fail("R symbol without a next boundary vertex");
+        w = right;
+        break;
+      case kLeft:
+        if (left == kNone) fail("L symbol without a previous boundary vertex");
+        w = left;
+        break;
+      case kRight2:
+        if (right == kNone || (w = region.after(right)) == kNone)
+          fail("R2 symbol without a boundary vertex two steps ahead");
+        break;
+      case kLeft2:
+        if (left == kNone || (w = region.before(left)) == kNone)
+          fail("L2 symbol without a boundary vertex two steps back");
+        break;
+      case kOther: {
+        if (rans_.decode(m_.other_on_boundary)) {
+          const std::uint32_t j = m_.walk.decode(rans_, raw_);
+          if (j >= 2 * kWalkLimit) fail("boundary walk too long");
+          w = walk_to(region, gate.from, gate.to, j);
+          if (w == kNone) fail("boundary walk leaves the boundary");
+          break;
+        }
+        const std::uint32_t back = m_.other.decode(rans_, raw_);
+        if (back >= region.n_vertices()) fail("vertex reference out of range");
+        w = region.n_vertices() - 1 - back;
+        break;
+      }
+      default: break;
+    }
+    return sym;
+  }
+  std::uint8_t diagonal(std::uint32_t, std::uint32_t) {
+    const auto diag = static_cast<std::uint8_t>(rans_.decode(m_.diagonal[last_diag_]));
+    last_diag_ = diag;
+    return diag;
+  }
+  void check_zip(std::uint32_t, std::uint32_t) {}
+  [[noreturn]] void fail(const char* what) {
+    throw DecodeError(rans_.offset(), std::string("connectivity: ") + what + " near byte " +
+                                          std::to_string(rans_.offset()));
+  }
+
+ private:
+  std::uint32_t new_vertex(Region& region) {
+    if (region.n_vertices() >= max_vertices_) fail("more vertices than corners");
+    return region.add_vertex();
+  }
+  RansDecoder& rans_;
+  BitReader& raw_;
+  Models m_;
+  std::size_t max_vertices_;
+  unsigned last_diag_ = 0;
+};
+
+}  // namespace
+
+void encode_connectivity(const CornerTable& input, bool polygons, Traversal traversal,
+                         RansEncoder& rans, BitWriter& raw, CornerTable& decoded,
+                         TraversalOrder& order) {
+  Encoder enc(input, rans, raw, order);
+  grow(enc, input.n_triangles(), polygons, traversal, decoded);
+}
+
+void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
+                         RansDecoder& rans, BitReader& raw, CornerTable& decoded) {
+  Decoder dec(rans, raw, n_triangles);
+  grow(dec, n_triangles, polygons, traversal, decoded);
+}
+
+}  // namespace geom::codec::detail

@@ -1,0 +1,426 @@
+#include <geom/compress/container/codec.h>
+
+#include <geom/compress/container/mesh_tables.h>
+#include <geom/compress/connectivity.h>
+#include <geom/compress/predict.h>
+#include <geom/compress/quantise.h>
+#include <geom/compress/rans.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace geom {
+
+namespace {
+
+using namespace codec;
+using namespace codec::detail;
+
+constexpr std::uint8_t kMagic[4] = {'G', 'M', 'C', 0x1A};
+constexpr std::uint8_t kVersion = 1;
+constexpr std::uint8_t kFlagPreserveOrder = 1;
+constexpr std::uint8_t kFlagPolygons = 2;
+constexpr std::uint8_t kFlagLeftFirst = 4;
+constexpr std::uint8_t kKnownFlags = 7;
+// Conforming streams cannot hold more than this many triangles per connectivity byte or
+// vertices per geometry byte (kMinFreq bounds every symbol's cost from below; FORMAT.md).
+constexpr std::uint64_t kMaxTrianglesPerByte = 2048;
+constexpr std::uint64_t kMaxVerticesPerByte = 64;
+
+struct Streams {
+  std::vector<std::uint8_t> rans, raw;
+  std::size_t size() const { return rans.size() + raw.size(); }
+};
+
+struct Candidate {
+  Traversal traversal;
+  Predictor predictor;
+  Streams connectivity, geometry;
+  CornerTable table;
+  TraversalOrder order;
+  std::vector<std::uint32_t> vertex_order;  // decoded vertex → dense input vertex
+};
+
+/// The configurations a level tries; each level's set contains the previous level's.
+std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
+  std::vector<std::pair<Traversal, Predictor>> c = {{Traversal::kRightFirst, Predictor::kDelta}};
+  if (level >= 1) c.push_back({Traversal::kRightFirst, Predictor::kParallelogram});
+  if (level >= 3) c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogram});
+  if (level >= 5) c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogramDegree});
+  if (level >= 6) {
+    c.push_back({Traversal::kLeftFirst, Predictor::kParallelogram});
+    c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogram});
+    c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogramDegree});
+  }
+  if (level >= 9) c.push_back({Traversal::kLeftFirst, Predictor::kDelta});
+  return c;
+}
+
+std::uint32_t zigzag(std::int64_t d) {
+  return static_cast<std::uint32_t>(d >= 0 ? 2 * d : -2 * d - 1);
+}
+std::int64_t unzigzag(std::uint32_t z) {
+  return (z & 1u) ? -static_cast<std::int64_t>(z >> 1) - 1 : static_cast<std::int64_t>(z >> 1);
+}
+
+void write_section(ByteWriter& w, const std::vector<std::uint8_t>& s) {
+  w.varint(s.size());
+  w.append(s);
+}
+
+struct Header {
+  std::uint8_t flags = 0;
+  Predictor predictor = Predictor::kDelta;
+  Quantiser quantiser;
+  std::uint64_t n_faces = 0, n_triangles = 0, n_vertices = 0, n_isolated = 0;
+};
+
+/// Everything up to the decoded positions; shared by decompress and decompress_flat.
+struct Core {
+  Header h;
+  CornerTable table;
+  std::vector<QPoint> q;
+  std::span<const std::uint8_t> order_rans, order_raw;
+  std::uint64_t order_offset = 0, connectivity_offset = 0;
+};
+
+Core decode_core(std::span<const std::uint8_t> bytes) {
+  ByteReader r(bytes);
+  Core core;
+  Header& h = core.h;
+  for (std::uint8_t m : kMagic)
+    if (r.u8() != m) throw DecodeError(r.offset() - 1, "not a geom compressed mesh (bad magic)");
+  const std::uint8_t version = r.u8();
+  if (version != kVersion)
+    throw DecodeError(r.offset() - 1, "unsupported stream version " + std::to_string(version) +
+                                          " (this decoder reads version 1)");
+  h.flags = r.u8();
+  if (h.flags & ~kKnownFlags) throw DecodeError(r.offset() - 1, "unknown flags");
+  const std::uint8_t pred = r.u8();
+  if (pred > 3) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
+  h.predictor = static_cast<Predictor>(pred);
+  h.quantiser.bits = r.u8();
+  if (h.quantiser.bits < 1 || h.quantiser.bits > 30)
+    throw DecodeError(r.offset() - 1, "quantisation bits outside 1–30");
+  for (int a = 0; a < 3; ++a) h.quantiser.origin[a] = r.f64();
+  h.quantiser.step = r.f64();
+  if (!h.quantiser.origin.allFinite() || !std::isfinite(h.quantiser.step) ||
+      !(h.quantiser.step > 0))
+    throw DecodeError(r.offset() - 8, "grid origin or step not finite and positive");
+  const double top = static_cast<double>((std::uint64_t{1} << h.quantiser.bits) - 1);
+  if (!(h.quantiser.origin.array() + h.quantiser.step * top).allFinite())
+    throw DecodeError(r.offset() - 8, "grid extends beyond the double range");
+  const std::size_t counts_at = r.offset();
+  h.n_faces = r.varint();
+  h.n_triangles = r.varint();
+  h.n_vertices = r.varint();
+  h.n_isolated = r.varint();
+  const std::uint64_t conn_at = r.offset();
+  const auto conn_rans = r.take(r.varint());
+  const auto conn_raw = r.take(r.varint());
+  const std::uint64_t geom_at = r.offset();
+  const auto geom_rans = r.take(r.varint());
+  const auto geom_raw = r.take(r.varint());
+  if (h.flags & kFlagPreserveOrder) {
+    core.order_offset = r.offset();
+    core.order_rans = r.take(r.varint());
+    core.order_raw = r.take(r.varint());
+  }
+  if (r.remaining() != 0) throw DecodeError(r.offset(), "trailing bytes after the last section");
+  if (h.n_triangles > kMaxTrianglesPerByte * conn_rans.size() + 16 || h.n_triangles > (1u << 30) ||
+      h.n_faces > h.n_triangles || (h.n_faces == 0) != (h.n_triangles == 0) ||
+      h.n_vertices > kMaxVerticesPerByte * geom_rans.size() + 64 || h.n_vertices > (1u << 30) ||
+      h.n_isolated > h.n_vertices ||
+      (!(h.flags & kFlagPolygons) && h.n_faces != h.n_triangles))
+    throw DecodeError(counts_at, "element counts impossible for the section sizes");
+
+  // Section payloads start after their varint length; offsets here are approximate to within
+  // that varint, exact for the data bytes via the decoders' own base.
+  const std::uint64_t conn_base = static_cast<std::uint64_t>(conn_rans.data() - bytes.data());
+  const std::uint64_t conn_raw_base = static_cast<std::uint64_t>(conn_raw.data() - bytes.data());
+  core.connectivity_offset = conn_at;
+  {
+    const bool polygons = h.flags & kFlagPolygons;
+    const Traversal trav = (h.flags & kFlagLeftFirst) ? Traversal::kLeftFirst : Traversal::kRightFirst;
+    if (h.n_triangles > 0) {
+      RansDecoder rd(conn_rans, conn_base);
+      BitReader br(conn_raw, conn_raw_base);
+      decode_connectivity(static_cast<std::size_t>(h.n_triangles), polygons, trav, rd, br, core.table);
+      rd.finish();
+      if (h.predictor == Predictor::kMultiParallelogramDegree) degree_order(core.table);
+    } else if (!conn_rans.empty() || !conn_raw.empty()) {
+      throw DecodeError(conn_at, "connectivity data for an empty mesh");
+    }
+  }
+  if (core.table.n_vertices + h.n_isolated != h.n_vertices)
+    throw DecodeError(counts_at, "vertex count disagrees with the connectivity");
+  if (h.n_vertices > 0) {
+    RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
+    BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
+    decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
+                     h.predictor, rd, br, core.q);
+    rd.finish();
+  } else if (!geom_rans.empty() || !geom_raw.empty()) {
+    throw DecodeError(geom_at, "geometry data for an empty mesh");
+  }
+  return core;
+}
+
+void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where, const char* what) {
+  std::vector<std::uint8_t> seen(p.size(), 0);
+  for (std::uint32_t i : p) {
+    if (i >= p.size() || seen[i])
+      throw DecodeError(where, std::string(what) + " order is not a permutation");
+    seen[i] = 1;
+  }
+}
+
+}  // namespace
+
+CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options) {
+  if (options.level < 0 || options.level > 9)
+    throw InvalidArgument("compression level must be in [0, 9], got " + std::to_string(options.level));
+  FlatMesh flat = flatten(mesh);
+  const Quantiser quant = options.precision > 0
+                              ? quantiser_for_precision(flat.positions, options.precision)
+                              : (options.precision < 0 || std::isnan(options.precision)
+                                     ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
+                                     : quantiser_for_bits(flat.positions, options.bits));
+  const std::size_t nv = flat.positions.size();
+  std::vector<QPoint> q_in(nv);
+  for (std::size_t i = 0; i < nv; ++i) q_in[i] = quant.quantise(flat.positions[i]);
+
+  Candidate best;
+  bool have_best = false;
+  std::vector<QPoint> qd(nv);
+  for (Traversal trav : {Traversal::kRightFirst, Traversal::kLeftFirst}) {
+    std::vector<Predictor> preds;
+    for (auto [t, p] : configurations(options.level))
+      if (t == trav) preds.push_back(p);
+    if (preds.empty()) continue;
+    Candidate c;
+    c.traversal = trav;
+    {
+      RansEncoder re;
+      BitWriter bw;
+      encode_connectivity(flat.table, flat.polygons, trav, re, bw, c.table, c.order);
+      if (!flat.table.vertex.empty()) c.connectivity.rans = re.finish();
+      c.connectivity.raw = bw.finish();
+    }
+    c.vertex_order = c.order.vertex_origin;
+    std::vector<std::uint8_t> used(nv, 0);
+    for (std::uint32_t v : c.vertex_order) used[v] = 1;
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (!used[v]) c.vertex_order.push_back(v);
+    for (Predictor p : preds) {
+      CornerTable table = c.table;
+      std::vector<std::uint32_t> vertex_order = c.vertex_order;
+      if (p == Predictor::kMultiParallelogramDegree) {
+        const std::vector<std::uint32_t> seq = degree_order(table);
+        for (std::size_t i = 0; i < seq.size(); ++i) vertex_order[i] = c.vertex_order[seq[i]];
+      }
+      for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[vertex_order[i]];
+      RansEncoder re;
+      BitWriter bw;
+      encode_positions(table, qd, quant.bits, p, re, bw);
+      Streams g;
+      if (nv > 0) g.rans = re.finish();
+      g.raw = bw.finish();
+      const std::size_t size = c.connectivity.size() + g.size();
+      if (!have_best || size < best.connectivity.size() + best.geometry.size()) {
+        Candidate keep;
+        keep.traversal = trav;
+        keep.predictor = p;
+        keep.connectivity = c.connectivity;
+        keep.geometry = std::move(g);
+        keep.table = std::move(table);
+        keep.order = c.order;
+        keep.vertex_order = std::move(vertex_order);
+        best = std::move(keep);
+        have_best = true;
+      }
+    }
+  }
+
+  const Polygons polys = reassemble(best.table, 0);
+  std::vector<std::uint32_t> face_order(polys.size());
+  for (std::size_t j = 0; j < polys.size(); ++j)
+    face_order[j] = flat.triangle_face[best.order.corner_origin[3 * polys.first_triangle[j]] / 3];
+
+  Streams order;
+  if (options.preserve_order) {
+    RansEncoder re;
+    BitWriter bw;
+    GammaModel vm, fm, rm;
+    std::int64_t prev = 0;
+    for (std::uint32_t v : best.vertex_order) {
+      vm.encode(re, bw, zigzag(std::int64_t{v} - prev));
+      prev = v;
+    }
+    std::vector<std::uint32_t> decoded_id(nv);
+    for (std::uint32_t i = 0; i < nv; ++i) decoded_id[best.vertex_order[i]] = i;
+    prev = 0;
+    for (std::size_t j = 0; j < polys.size(); ++j) {
+      const std::uint32_t f = face_order[j];
+      fm.encode(re, bw, zigzag(std::int64_t{f} - prev));
+      prev = f;
+      const std::uint32_t first = decoded_id[flat.face_first_vertex[f]];
+      std::uint32_t rot = 0;
+      while (polys.vertex[polys.offset[j] + rot] != first) ++rot;
+      rm.encode(re, bw, rot);
+    }
+    if (re.symbols() > 0) order.rans = re.finish();
+    order.raw = bw.finish();
+  }
+
+  ByteWriter w;
+  for (std::uint8_t m : kMagic) w.u8(m);
+  w.u8(kVersion);
+  std::uint8_t flags = 0;
+  if (options.preserve_order) flags |= kFlagPreserveOrder;
+  if (flat.polygons) flags |= kFlagPolygons;
+  if (best.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
+  w.u8(flags);
+  w.u8(static_cast<std::uint8_t>(best.predictor));
+  w.u8(static_cast<std::uint8_t>(quant.bits));
+  for (int a = 0; a < 3; ++a) w.f64(quant.origin[a]);
+  w.f64(quant.step);
+  w.varint(flat.n_faces);
+  w.varint(flat.table.n_triangles());
+  w.varint(nv);
+  w.varint(nv - best.table.n_vertices);
+  CompressResult result;
+  result.stats.header_bytes = w.bytes().size();
+  const std::size_t before_conn = w.bytes().size();
+  write_section(w, best.connectivity.rans);
+  write_section(w, best.connectivity.raw);
+  result.stats.connectivity_bytes = w.bytes().size() - before_conn;
+  write_section(w, best.geometry.rans);
+  write_section(w, best.geometry.raw);
+  result.stats.geometry_bytes = w.bytes().size() - before_conn - result.stats.connectivity_bytes;
+  if (options.preserve_order) {
+    const std::size_t before = w.bytes().size();
+    write_section(w, order.rans);
+    write_section(w, order.raw);
+    result.stats.order_bytes = w.bytes().size() - before;
+  }
+  result.bytes = std::move(w.bytes());
+  result.stats.bits = quant.bits;
+  result.stats.step = quant.step;
+  result.stats.max_error = quant.max_error();
+  result.stats.predictor = static_cast<int>(best.predictor);
+  result.stats.traversal = static_cast<int>(best.traversal);
+  if (options.preserve_order) {
+    result.vertex_permutation.resize(nv);
+    result.face_permutation.resize(flat.n_faces);
+    for (std::uint32_t i = 0; i < nv; ++i) result.vertex_permutation[i] = i;
+    for (std::uint32_t i = 0; i < flat.n_faces; ++i) result.face_permutation[i] = i;
+  } else {
+    result.vertex_permutation = std::move(best.vertex_order);
+    result.face_permutation = std::move(face_order);
+  }
+  return result;
+}
+
+DecompressResult decompress(std::span<const std::uint8_t> bytes) {
+  Core core = decode_core(bytes);
+  const Header& h = core.h;
+  const std::size_t nv = static_cast<std::size_t>(h.n_vertices);
+  const Polygons polys = reassemble(core.table, core.connectivity_offset);
+  if (polys.size() != h.n_faces)
+    throw DecodeError(core.connectivity_offset, "face count disagrees with the polygon flags");
+  const std::size_t nf = polys.size();
+
+  DecompressResult result;
+  result.max_error = h.quantiser.max_error();
+  std::vector<std::uint32_t> vertex_slot(nv), face_slot(nf), rotation(nf, 0);
+  for (std::uint32_t i = 0; i < nv; ++i) vertex_slot[i] = i;
+  for (std::uint32_t j = 0; j < nf; ++j) face_slot[j] = j;
+  if (h.flags & kFlagPreserveOrder) {
+    const std::uint64_t base = static_cast<std::uint64_t>(core.order_rans.data() - bytes.data());
+    if (nv + nf == 0) {
+      if (!core.order_rans.empty() || !core.order_raw.empty())
+        throw DecodeError(core.order_offset, "order data for an empty mesh");
+    } else {
+      RansDecoder rd(core.order_rans, base);
+      BitReader br(core.order_raw, static_cast<std::uint64_t>(core.order_raw.data() - bytes.data()));
+      GammaModel vm, fm, rm;
+      std::int64_t prev = 0;
+      for (std::uint32_t i = 0; i < nv; ++i) {
+        prev += unzigzag(vm.decode(rd, br));
+        if (prev < 0 || prev >= static_cast<std::int64_t>(nv))
+          throw DecodeError(rd.offset(), "vertex order index out of range");
+        vertex_slot[i] = static_cast<std::uint32_t>(prev);
+      }
+      prev = 0;
+      for (std::uint32_t j = 0; j < nf; ++j) {
+        prev += unzigzag(fm.decode(rd, br));
+        if (prev < 0 || prev >= static_cast<std::int64_t>(nf))
+          throw DecodeError(rd.offset(), "face order index out of range");
+        face_slot[j] = static_cast<std::uint32_t>(prev);
+        rotation[j] = rm.decode(rd, br);
+        if (rotation[j] >= polys.offset[j + 1] - polys.offset[j])
+          throw DecodeError(rd.offset(), "face rotation exceeds the face size");
+      }
+      rd.finish();
+    }
+    check_permutation(vertex_slot, core.order_offset, "vertex");
+    check_permutation(face_slot, core.order_offset, "face");
+    result.order_preserved = true;
+    result.vertex_permutation.resize(nv);
+    result.face_permutation.resize(nf);
+    for (std::uint32_t i = 0; i < nv; ++i) result.vertex_permutation[i] = i;
+    for (std::uint32_t j = 0; j < nf; ++j) result.face_permutation[j] = j;
+  }
+
+  SurfaceMesh& mesh = result.mesh;
+  mesh.reserve(nv, polys.vertex.size() / 2 + nf + 3, nf);
+  std::vector<Point> positions(nv);
+  for (std::size_t i = 0; i < nv; ++i) positions[vertex_slot[i]] = h.quantiser.dequantise(core.q[i]);
+  for (const Point& p : positions) mesh.add_vertex(p);
+  std::vector<std::uint32_t> face_of_slot(nf);
+  for (std::uint32_t j = 0; j < nf; ++j) face_of_slot[face_slot[j]] = j;
+  std::vector<Vertex> corners;
+  for (std::uint32_t s = 0; s < nf; ++s) {
+    const std::uint32_t j = face_of_slot[s];
+    const std::uint32_t b = polys.offset[j], k = polys.offset[j + 1] - b;
+    corners.clear();
+    for (std::uint32_t i = 0; i < k; ++i)
+      corners.push_back(Vertex(vertex_slot[polys.vertex[b + (i + rotation[j]) % k]]));
+    try {
+      mesh.add_face(corners);
+    } catch (const TopologyError& e) {
+      throw DecodeError(core.connectivity_offset,
+                        std::string("decoded faces do not form a valid mesh: ") + e.what());
+    }
+  }
+  return result;
+}
+
+namespace codec {
+FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
+  Core core = decode_core(bytes);
+  FlatDecode out;
+  out.positions.resize(3 * core.q.size());
+  const Quantiser& qz = core.h.quantiser;
+  for (std::size_t i = 0; i < core.q.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      out.positions[3 * i + a] = static_cast<float>(qz.origin[a] + qz.step * core.q[i][a]);
+  out.triangles = std::move(core.table.vertex);
+  return out;
+}
+}  // namespace codec
+
+std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners) {
+  const std::size_t n_tri = n_corners >= 2 * n_faces ? n_corners - 2 * n_faces : n_corners;
+  // Every model symbol costs at most log2(2^15 / kMinFreq) = 10 bits (+ rounding; 11 used);
+  // raw fields are at most 31 bits. Per triangle ≤ 12 symbols and 93 raw bits; per vertex
+  // 6 symbols and 87 raw bits; order: 1 symbol + 31 bits per vertex, 2 + 62 per face.
+  const std::size_t conn = (n_tri * (12 * 11 + 93) + 7) / 8 + 16;
+  const std::size_t geom = (n_vertices * (6 * 11 + 87) + 7) / 8 + 16;
+  const std::size_t order = (n_vertices * (11 + 31) + n_faces * (2 * 11 + 62) + 7) / 8 + 16;
+  return 128 + conn + geom + order + 6 * 10;
+}
+
+}  // namespace geom

@@ -1,0 +1,104 @@
+#pragma once
+/// \file
+/// geom's mesh codec (".gmc"): region-growing connectivity coding, quantised positions with
+/// (multi-)parallelogram prediction, adaptive rANS entropy coding, an optional exact vertex
+/// and face order, and a decoder that is safe on untrusted input. The stream format is
+/// specified in geom/compress/FORMAT.md.
+///
+/// Ref: J. Rossignac, "Edgebreaker", IEEE TVCG 1999; C. Touma, C. Gotsman, "Triangle mesh
+/// compression", GI 1998; J. Duda, "Asymmetric numeral systems", 2013; the Draco and
+/// meshoptimizer codecs (format discipline: versioned header, bounds-checked decoding).
+
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace geom {
+
+struct CompressOptions {
+  /// Bits per position coordinate (1–30) on a grid across the largest bounding-box extent.
+  unsigned bits = 11;
+  /// When > 0: the largest allowed error per coordinate, overriding `bits` (the grid step is
+  /// 2·precision whatever the object's size, so long objects keep their accuracy).
+  double precision = 0.0;
+  /// 0–9. Each level tries a superset of the previous level's configurations and keeps the
+  /// smallest stream, so a higher level never gives a larger stream: 0 delta prediction;
+  /// 1–2 + parallelogram; 3–4 + multi-parallelogram; 5 + multi-parallelogram in degree order;
+  /// 6–8 + the left-first traversal (parallelogram, multi, degree); 9 + everything.
+  int level = 7;
+  /// Keep the input's vertex order, face order and each face's first corner exactly (costs
+  /// about log2(n) bits per vertex and face for a random order, much less for a coherent one).
+  bool preserve_order = false;
+};
+
+/// Where the bytes went, for reports and benchmarks.
+struct CompressStats {
+  std::size_t header_bytes = 0;
+  std::size_t connectivity_bytes = 0;
+  std::size_t geometry_bytes = 0;
+  std::size_t order_bytes = 0;
+  unsigned bits = 0;        ///< grid bits used
+  double step = 0.0;        ///< grid step
+  double max_error = 0.0;   ///< bound on each coordinate's error: step / 2
+  /// 0 delta, 1 parallelogram, 2 multi-parallelogram, 3 multi-parallelogram in degree order
+  int predictor = 0;
+  int traversal = 0;
+};
+
+struct CompressResult {
+  std::vector<std::uint8_t> bytes;
+  /// Input (dense) index of each vertex of the decoded mesh; the identity when
+  /// preserve_order. Dense indices count live elements in index order.
+  std::vector<std::uint32_t> vertex_permutation;
+  /// Input (dense) index of each face of the decoded mesh; the identity when preserve_order.
+  std::vector<std::uint32_t> face_permutation;
+  CompressStats stats;
+};
+
+/// Compress a mesh (triangles, quads and n-gons; any number of components, boundaries and
+/// handles; isolated vertices kept). Vertex and face properties other than positions are not
+/// coded.
+/// Pre: finite positions.
+/// Throws: InvalidArgument for bits outside 1–30, a precision ≤ 0 or needing more than 30
+/// bits, a level outside 0–9, non-finite positions, or a polygon that cannot be fanned
+/// without repeating an existing edge.
+/// Complexity: O(V + F) per configuration tried (1 at level 0, up to 8 at level 9).
+CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
+
+struct DecompressResult {
+  SurfaceMesh mesh;
+  /// Input index of each decoded vertex / face when the stream records the order
+  /// (preserve_order: the mesh comes back in input order and these are the identity);
+  /// empty otherwise — the encoder's CompressResult holds the permutation then.
+  std::vector<std::uint32_t> vertex_permutation;
+  std::vector<std::uint32_t> face_permutation;
+  bool order_preserved = false;
+  double max_error = 0.0;  ///< the stream's per-coordinate error bound (step / 2)
+};
+
+/// Decode a stream written by compress().
+/// Throws: DecodeError naming the byte offset for a wrong magic, an unsupported version,
+/// truncated or corrupt data; never reads outside `bytes` and never allocates more than a
+/// constant times the stream size plus the decoded mesh.
+/// Complexity: O(V + F).
+DecompressResult decompress(std::span<const std::uint8_t> bytes);
+
+/// Upper bound on the size of compress()'s output for a mesh with these counts (corners =
+/// sum of face valences), at any options.
+std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners);
+
+namespace codec {
+/// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
+/// positions (xyz per decoded vertex) and triangle indices (polygon meshes come back fanned).
+struct FlatDecode {
+  std::vector<float> positions;
+  std::vector<std::uint32_t> triangles;
+};
+/// Throws: DecodeError as decompress(). Ignores the order section.
+FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
+}  // namespace codec
+
+}  // namespace geom

@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// Position prediction and residual coding on the decoded corner table. Vertices are coded
+/// in decoding order; a vertex is predicted only from vertices before it, so the decoder can
+/// run the same predictor once connectivity is known.
+///
+/// Ref: C. Touma, C. Gotsman, "Triangle mesh compression", Graphics Interface 1998
+/// (parallelogram rule). M. Isenburg, P. Alliez, "Compressing polygon mesh geometry with
+/// parallelogram prediction", IEEE Visualization 2002. Draco's constrained
+/// multi-parallelogram predictor (averaging every available parallelogram).
+
+#include <geom/compress/connectivity.h>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace geom::codec::detail {
+
+enum class Predictor : std::uint8_t {
+  kDelta = 0,                ///< the latest decoded neighbour
+  kParallelogram = 1,        ///< the first complete parallelogram
+  kMultiParallelogram = 2,   ///< the rounded mean of every complete parallelogram
+  /// Multi-parallelogram with vertices renumbered by degree_order(): each vertex is coded
+  /// when the most triangles around it are complete, so more parallelograms are averaged.
+  kMultiParallelogramDegree = 3,
+};
+
+/// Renumber the table's vertices in "most complete triangles first" order (a greedy
+/// traversal with bucket queues; deterministic, so the decoder repeats it). Returns the
+/// old vertex of each new vertex. Complexity: O(V + T).
+/// Ref: Draco's MaxPredictionDegreeTraverser (prediction-degree driven attribute order).
+std::vector<std::uint32_t> degree_order(CornerTable& table);
+
+using QPoint = std::array<std::uint32_t, 3>;
+
+/// Code q (decoding order; the first table.n_vertices are the table's vertices, the rest
+/// are isolated vertices) on a grid of `bits` bits.
+/// Pre: every q component < 2^bits; q.size() ≥ table.n_vertices.
+/// Complexity: O(V + T).
+void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsigned bits,
+                      Predictor predictor, RansEncoder& rans, BitWriter& raw);
+
+/// Decode n positions. Throws: DecodeError on truncated data or a value off the grid.
+/// Complexity: O(V + T).
+void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
+                      RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q);
+
+}  // namespace geom::codec::detail

@@ -1,0 +1,191 @@
+#include <geom/compress/rans.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <string>
+
+namespace geom::codec {
+
+AdaptiveModel::AdaptiveModel(unsigned n_symbols) : n_(n_symbols) {
+  if (n_symbols < 2 || n_symbols > kMaxSymbols)
+    throw InvalidArgument("AdaptiveModel: alphabet size must be in [2, 64], got " +
+                          std::to_string(n_symbols));
+  for (unsigned s = 0; s < n_; ++s) counts_[s] = 1;
+  // Start with frequent rebuilds so the model learns quickly, then back off to keep the
+  // per-symbol cost of rebuilding small.
+  interval_ = 8;
+  rebuild();
+}
+
+void AdaptiveModel::rebuild() {
+  std::uint32_t total = 0;
+  for (unsigned s = 0; s < n_; ++s) total += counts_[s];
+  if (total > kCountLimit) {
+    // Halving keeps the model responsive to drift and keeps products below 2^32.
+    total = 0;
+    for (unsigned s = 0; s < n_; ++s) {
+      counts_[s] = (counts_[s] + 1) / 2;
+      total += counts_[s];
+    }
+  }
+  const std::uint32_t spread = kProbScale - n_ * kMinFreq;
+  std::uint32_t sum = 0;
+  unsigned best = 0;
+  std::array<std::uint32_t, kMaxSymbols> f{};
+  for (unsigned s = 0; s < n_; ++s) {
+    f[s] = kMinFreq + static_cast<std::uint32_t>(
+                          static_cast<std::uint64_t>(counts_[s]) * spread / total);
+    sum += f[s];
+    if (counts_[s] > counts_[best]) best = s;
+  }
+  f[best] += kProbScale - sum;
+  cum_[0] = 0;
+  for (unsigned s = 0; s < n_; ++s) cum_[s + 1] = cum_[s] + f[s];
+  interval_ = std::min<std::uint32_t>(interval_ * 2, 1024);
+  until_rebuild_ = interval_;
+}
+
+namespace {
+constexpr std::uint32_t kRansLow = 1u << 23;
+constexpr std::uint32_t kFlatTag = 0x8000;
+}  // namespace
+
+void RansEncoder::encode_flat(std::uint32_t value, unsigned bits) {
+  entries_.push_back((value << 16) | kFlatTag | bits);
+}
+
+std::vector<std::uint8_t> RansEncoder::finish() const {
+  std::vector<std::uint8_t> out;
+  out.reserve(entries_.size() / 2 + 16);
+  std::uint32_t x = kRansLow;
+  for (auto it = entries_.rbegin(); it != entries_.rend(); ++it) {
+    const std::uint32_t e = *it;
+    const std::uint32_t start = e >> 16;
+    if (e & kFlatTag) {
+      const unsigned bits = e & 0xff;
+      const std::uint32_t x_max = (kRansLow >> bits) << 8;
+      while (x >= x_max) {
+        out.push_back(static_cast<std::uint8_t>(x));
+        x >>= 8;
+      }
+      x = (x << bits) | start;
+    } else {
+      const std::uint32_t freq = e & 0xffff;
+      const std::uint32_t x_max = ((kRansLow >> kProbBits) << 8) * freq;
+      while (x >= x_max) {
+        out.push_back(static_cast<std::uint8_t>(x));
+        x >>= 8;
+      }
+      x = ((x / freq) << kProbBits) + (x % freq) + start;
+    }
+  }
+  for (int i = 0; i < 4; ++i) {
+    out.push_back(static_cast<std::uint8_t>(x));
+    x >>= 8;
+  }
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base)
+    : data_(bytes.data()), size_(bytes.size()), base_(base) {
+  if (size_ < 4) fail("rANS stream shorter than its 4-byte state");
+  x_ = (std::uint32_t{data_[0]} << 24) | (std::uint32_t{data_[1]} << 16) |
+       (std::uint32_t{data_[2]} << 8) | data_[3];
+  pos_ = 4;
+  if (x_ < kLow) fail("rANS initial state out of range");
+}
+
+std::uint32_t RansDecoder::decode_flat(unsigned bits) {
+  const std::uint32_t v = x_ & ((1u << bits) - 1);
+  x_ >>= bits;
+  renormalise();
+  return v;
+}
+
+void RansDecoder::finish() const {
+  if (pos_ != size_ || x_ != kLow) fail("rANS stream does not end where the encoder finished");
+}
+
+void RansDecoder::fail(const char* what) const {
+  throw DecodeError(base_ + pos_, std::string(what) + " at byte " + std::to_string(base_ + pos_));
+}
+
+void BitReader::fail() const {
+  throw DecodeError(base_ + pos_, "raw bit stream ends early at byte " + std::to_string(base_ + pos_));
+}
+
+void GammaModel::encode(RansEncoder& rans, BitWriter& raw, std::uint32_t value) {
+  const unsigned len = static_cast<unsigned>(std::bit_width(value));
+  rans.encode(lengths_, len);
+  if (len >= 2) raw.put(value & ((1u << (len - 1)) - 1), len - 1);
+}
+
+std::uint32_t GammaModel::decode(RansDecoder& rans, BitReader& raw) {
+  const unsigned len = rans.decode(lengths_);
+  if (len < 2) return len;
+  return (1u << (len - 1)) | raw.get(len - 1);
+}
+
+void ByteWriter::u32(std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) bytes_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+}
+
+void ByteWriter::f64(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, 8);
+  for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<std::uint8_t>(b >> (8 * i)));
+}
+
+void ByteWriter::varint(std::uint64_t v) {
+  while (v >= 0x80) {
+    bytes_.push_back(static_cast<std::uint8_t>(v | 0x80));
+    v >>= 7;
+  }
+  bytes_.push_back(static_cast<std::uint8_t>(v));
+}
+
+std::uint8_t ByteReader::u8() {
+  if (remaining() < 1) fail("unexpected end of stream (need 1 byte)");
+  return bytes_[pos_++];
+}
+
+std::uint32_t ByteReader::u32() {
+  if (remaining() < 4) fail("unexpected end of stream (need 4 bytes)");
+  std::uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= std::uint32_t{bytes_[pos_ + i]} << (8 * i);
+  pos_ += 4;
+  return v;
+}
+
+double ByteReader::f64() {
+  if (remaining() < 8) fail("unexpected end of stream (need 8 bytes)");
+  std::uint64_t b = 0;
+  for (int i = 0; i < 8; ++i) b |= std::uint64_t{bytes_[pos_ + i]} << (8 * i);
+  pos_ += 8;
+  double v;
+  std::memcpy(&v, &b, 8);
+  return v;
+}
+
+std::uint64_t ByteReader::varint() {
+  std::uint64_t v = 0;
+  for (unsigned shift = 0; shift < 64; shift += 7) {
+    const std::uint8_t b = u8();
+    v |= static_cast<std::uint64_t>(b & 0x7f) << shift;
+    if (!(b & 0x80)) return v;
+  }
+  fail("varint longer than 10 bytes");
+}
+
+std::span<const std::uint8_t> ByteReader::take(std::uint64_t n) {
+  if (n > remaining())
+    fail("section of " + std::to_string(n) + " bytes exceeds the " +
+         std::to_string(remaining()) + " bytes left");
+  auto s = bytes_.subspan(pos_, static_cast<std::size_t>(n));
+  pos_ += static_cast<std::size_t>(n);
+  return s;
+}
+
+}  // namespace geom::codec

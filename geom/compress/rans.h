@@ -1,0 +1,226 @@
+#pragma once
+/// \file
+/// Entropy coding for the geom mesh codec: a byte-wise rANS coder driven by adaptive
+/// frequency models, a raw bit stream for the bits no model can predict, and bounds-checked
+/// byte readers that throw DecodeError with the absolute byte offset.
+///
+/// Ref: J. Duda, "Asymmetric numeral systems: entropy coding combining speed of Huffman
+/// coding with compression rate of arithmetic coding", arXiv:1311.2540, 2013.
+/// F. Giesen, "Interleaved entropy coders", arXiv:1402.0765, 2014 (byte-wise renormalisation).
+
+#include <geom/core/errors.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace geom::codec {
+
+/// Probabilities are 15-bit fixed point: every model's frequencies sum to 2^15.
+inline constexpr unsigned kProbBits = 15;
+inline constexpr std::uint32_t kProbScale = 1u << kProbBits;
+/// Smallest frequency any symbol gets after a rebuild. It bounds the most likely symbol's
+/// probability by 1 − (n−1)·kMinFreq/2^15, so every symbol costs a positive number of bits and
+/// a stream of B bytes holds a bounded number of symbols (the decoder's allocation bound).
+inline constexpr std::uint32_t kMinFreq = 32;
+/// Largest alphabet an AdaptiveModel accepts.
+inline constexpr unsigned kMaxSymbols = 64;
+
+/// An adaptive frequency model over symbols 0..n−1. Counts grow as symbols are coded and the
+/// 15-bit cumulative table is rebuilt at fixed, doubling intervals, so encoder and decoder
+/// stay in lock step without per-symbol renormalisation.
+class AdaptiveModel {
+ public:
+  /// Pre: 2 ≤ n_symbols ≤ kMaxSymbols. Throws: InvalidArgument otherwise.
+  explicit AdaptiveModel(unsigned n_symbols = 2);
+
+  unsigned size() const { return n_; }
+  std::uint32_t start(unsigned s) const { return cum_[s]; }
+  std::uint32_t freq(unsigned s) const { return cum_[s + 1] - cum_[s]; }
+  /// The symbol whose interval holds slot (slot < 2^15).
+  unsigned find(std::uint32_t slot) const {
+    unsigned s = 0;
+    while (cum_[s + 1] <= slot) ++s;
+    return s;
+  }
+  /// Account for one coded symbol.
+  void update(unsigned s) {
+    counts_[s] += kIncrement;
+    if (--until_rebuild_ == 0) rebuild();
+  }
+
+ private:
+  static constexpr std::uint32_t kIncrement = 32;
+  static constexpr std::uint32_t kCountLimit = 1u << 16;
+  void rebuild();
+
+  unsigned n_;
+  std::uint32_t until_rebuild_;
+  std::uint32_t interval_;
+  std::array<std::uint32_t, kMaxSymbols + 1> cum_{};
+  std::array<std::uint32_t, kMaxSymbols> counts_{};
+};
+
+/// Collects symbols in coding order and writes them as one rANS stream at finish(). rANS is
+/// last-in first-out, so symbols are buffered and coded in reverse; the models adapt in
+/// forward order on both sides.
+class RansEncoder {
+ public:
+  void encode(AdaptiveModel& model, unsigned s) {
+    entries_.push_back((model.start(s) << 16) | model.freq(s));
+    model.update(s);
+  }
+  /// Code a value below 2^bits (bits ≤ 15) with a flat distribution.
+  void encode_flat(std::uint32_t value, unsigned bits);
+  std::size_t symbols() const { return entries_.size(); }
+  /// The coded bytes: 4 bytes of final state followed by the renormalisation bytes.
+  std::vector<std::uint8_t> finish() const;
+
+ private:
+  // start << 16 | freq; flat symbols use freq < 2^15 with a tag in bit 15 of freq.
+  std::vector<std::uint32_t> entries_;
+};
+
+/// Reads a stream written by RansEncoder. Every byte read is checked against the end of the
+/// buffer; `base` is the stream's offset in the whole buffer, for error messages.
+class RansDecoder {
+ public:
+  /// Throws: DecodeError when the buffer cannot hold the initial state.
+  RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base);
+
+  unsigned decode(AdaptiveModel& model) {
+    const std::uint32_t slot = x_ & (kProbScale - 1);
+    const unsigned s = model.find(slot);
+    x_ = model.freq(s) * (x_ >> kProbBits) + slot - model.start(s);
+    model.update(s);
+    renormalise();
+    return s;
+  }
+  std::uint32_t decode_flat(unsigned bits);
+  /// Throws: DecodeError unless the stream ended exactly where the encoder finished (every
+  /// byte consumed and the state back at its initial value): catches most corruption.
+  void finish() const;
+  /// Absolute byte offset of the next unread byte (for error messages).
+  std::uint64_t offset() const { return base_ + pos_; }
+
+ private:
+  static constexpr std::uint32_t kLow = 1u << 23;
+  void renormalise() {
+    while (x_ < kLow) {
+      if (pos_ >= size_) fail("rANS stream ends early");
+      x_ = (x_ << 8) | data_[pos_++];
+    }
+  }
+  [[noreturn]] void fail(const char* what) const;
+
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+  std::uint64_t base_;
+  std::uint32_t x_ = 0;
+};
+
+/// Little-endian bit stream for raw bits (least significant first).
+class BitWriter {
+ public:
+  /// Pre: bits ≤ 32 and value < 2^bits.
+  void put(std::uint32_t value, unsigned bits) {
+    if (bits == 0) return;
+    acc_ |= static_cast<std::uint64_t>(value) << fill_;
+    fill_ += bits;
+    while (fill_ >= 8) {
+      bytes_.push_back(static_cast<std::uint8_t>(acc_));
+      acc_ >>= 8;
+      fill_ -= 8;
+    }
+  }
+  std::vector<std::uint8_t> finish() {
+    if (fill_ > 0) bytes_.push_back(static_cast<std::uint8_t>(acc_));
+    acc_ = 0;
+    fill_ = 0;
+    return std::move(bytes_);
+  }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+  std::uint64_t acc_ = 0;
+  unsigned fill_ = 0;
+};
+
+class BitReader {
+ public:
+  BitReader(std::span<const std::uint8_t> bytes, std::uint64_t base)
+      : data_(bytes.data()), size_(bytes.size()), base_(base) {}
+  /// Throws: DecodeError when the stream has fewer than `bits` bits left.
+  std::uint32_t get(unsigned bits) {
+    if (bits == 0) return 0;
+    while (fill_ < bits) {
+      if (pos_ >= size_) fail();
+      acc_ |= static_cast<std::uint64_t>(data_[pos_++]) << fill_;
+      fill_ += 8;
+    }
+    const std::uint32_t v = static_cast<std::uint32_t>(acc_ & ((std::uint64_t{1} << bits) - 1));
+    acc_ >>= bits;
+    fill_ -= bits;
+    return v;
+  }
+
+ private:
+  [[noreturn]] void fail() const;
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+  std::uint64_t base_;
+  std::uint64_t acc_ = 0;
+  unsigned fill_ = 0;
+};
+
+/// An unsigned integer of any size coded as its bit length (adaptive, 33 symbols) followed
+/// by the bits below the leading one (raw). Cheap for the small values the codec expects,
+/// bounded (≤ 15 + 31 bits) for any value.
+class GammaModel {
+ public:
+  GammaModel() : lengths_(33) {}
+  void encode(RansEncoder& rans, BitWriter& raw, std::uint32_t value);
+  std::uint32_t decode(RansDecoder& rans, BitReader& raw);
+
+ private:
+  AdaptiveModel lengths_;
+};
+
+/// Byte-level writer: little-endian integers and LEB128 varints.
+class ByteWriter {
+ public:
+  void u8(std::uint8_t v) { bytes_.push_back(v); }
+  void u32(std::uint32_t v);
+  void f64(double v);
+  void varint(std::uint64_t v);
+  void append(std::span<const std::uint8_t> b) { bytes_.insert(bytes_.end(), b.begin(), b.end()); }
+  std::vector<std::uint8_t>& bytes() { return bytes_; }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+};
+
+/// Byte-level reader over a whole buffer; every read is checked and failures name the offset.
+class ByteReader {
+ public:
+  explicit ByteReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  std::uint8_t u8();
+  std::uint32_t u32();
+  double f64();
+  std::uint64_t varint();
+  /// The next n bytes as a span. Throws: DecodeError when fewer remain.
+  std::span<const std::uint8_t> take(std::uint64_t n);
+  std::size_t offset() const { return pos_; }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+  [[noreturn]] void fail(const std::string& what) const { throw DecodeError(pos_, what); }
+
+ private:
+  std::span<const std::uint8_t> bytes_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace geom::codec

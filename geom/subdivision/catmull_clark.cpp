@@ -1,0 +1,194 @@
+// Catmull-Clark refinement of one level: child connectivity by index arithmetic (no
+// searching, no per-element allocation), then face-, edge- and vertex-points.
+//
+// The child face of parent halfedge g (ending at corner j of face f) is the quad
+// child(v_j) → mid(next g) → face-point → mid(g). With h = prev(g), sl = slot(h), and the
+// interior edge of slot s joining the face-point to mid(next(s's halfedge)):
+//   second(g)             mid(g) → child(v_j)
+//   first(next g)         child(v_j) → mid(next g)
+//   2·slot(g) + 1         mid(next g) → face-point
+//   2·sl                  face-point → mid(g)
+// Each parent halfedge h builds the child face of next(h), so every child halfedge is
+// written exactly once and the loop runs in parallel. OpenSubdiv rotates a child of a quad
+// so that child(v_j) is its corner j (children of other polygons start at child(v_j)).
+//
+// Ref: E. Catmull, J. Clark, CAD 10(6), 1978; OpenSubdiv Sdc::Scheme<SCHEME_CATMARK>.
+
+#include <geom/subdivision/level.h>
+
+namespace geom::detail::subdiv {
+
+namespace {
+
+template <class Sink>
+void catmark_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
+  const std::uint32_t E = p.ne, F = p.nf, V = p.nv, C = p.n_corners;
+  set_child_counts(p, c, true);
+  out.allocate(ctx);
+  c.parent_face.resize(ctx.parent_faces ? c.nf : 0);
+  for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t h = b; h < end; ++h) {
+      const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
+      out.to(fst, F + (h >> 1));
+      out.to(snd, F + E + p.to[h]);
+      const std::uint32_t f = p.face[h];
+      const std::uint32_t g = p.next[h];
+      if (f == kNone) {
+        out.next(fst, snd);
+        out.next(snd, first_half(g, C));
+        out.face(fst, kNone);
+        out.face(snd, kNone);
+        if (!ctx.last) {
+          out.slot(fst, kNone);
+          out.slot(snd, kNone);
+        }
+        continue;
+      }
+      const std::uint32_t sl = p.slot[h], sg = p.slot[g];
+      const std::uint32_t ring[4] = {second_half(g, C), first_half(p.next[g], C), 2 * sg + 1,
+                                     2 * sl};
+      out.to(2 * sl, F + (g >> 1));
+      out.to(2 * sl + 1, f);
+      for (int k = 0; k < 4; ++k) {
+        out.next(ring[k], ring[(k + 1) & 3]);
+        out.face(ring[k], sg);
+      }
+      const std::uint32_t r = p.face_size(f) == 4 ? p.corner_of(g) : 0;
+      if (!ctx.last)
+        for (std::uint32_t k = 0; k < 4; ++k) out.slot(ring[k], 4 * sg + ((k + r) & 3u));
+      out.fh(sg, ring[(4 - r) & 3u]);
+      if (ctx.parent_faces) c.parent_face[sg] = f;
+    }
+  });
+  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t f = b; f < end; ++f) out.vh(f, 2 * p.slot[p.fh[f]]);
+  });
+  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e)
+      out.vh(F + e, p.face[2 * e + 1] == kNone ? second_half(2 * e + 1, C) : second_half(2 * e, C));
+  });
+  for_range(V, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t v = b; v < end; ++v)
+      out.vh(F + E + v, p.vh[v] == kNone ? kNone : first_half(p.vh[v], C));
+  });
+  refine_sharpness(p, c, F + E, ctx);
+}
+
+}  // namespace
+
+void refine_topology_catmark(const Level& p, Level& c, const Context& ctx) {
+  LevelSink sink{c};
+  catmark_topology(p, c, sink, ctx);
+}
+
+void refine_topology_catmark(const Level& p, Level& c, SurfaceMesh& mesh, const Context& ctx) {
+  MeshSink sink{mesh};
+  catmark_topology(p, c, sink, ctx);
+}
+
+namespace {
+
+template <int W>
+void face_and_edge_points(const Level& p, const Level& c, const double* src, double* dst,
+                          int w, const Context& ctx) {
+  const int nw = W ? W : w;
+  const std::uint32_t F = p.nf;
+  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t f = b; f < end; ++f) {
+      double* out = dst + static_cast<std::size_t>(f) * nw;
+      Row<W>::zero(out, w);
+      int n = 0;
+      std::uint32_t h = p.fh[f];
+      do {
+        ++n;
+        h = p.next[h];
+      } while (h != p.fh[f]);
+      const double weight = 1.0 / n;
+      do {
+        Row<W>::add(out, src + static_cast<std::size_t>(p.to[h]) * nw, weight, w);
+        h = p.next[h];
+      } while (h != p.fh[f]);
+    }
+  });
+  const bool sharp = p.has_sharpness();
+  const bool child_sharp = c.has_sharpness();
+  for_range(p.ne, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e) {
+      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
+      const double* v0 = src + static_cast<std::size_t>(p.to[h1]) * nw;
+      const double* v1 = src + static_cast<std::size_t>(p.to[h0]) * nw;
+      double* out = dst + static_cast<std::size_t>(F + e) * nw;
+      const float s = sharp ? p.esharp[e] : kSmooth;
+      double vw = 0.25, fw = 0.25;
+      if (is_sharp(s)) {
+        const bool child_crease =
+            child_sharp && is_sharp(c.esharp[p.n_corners + h0]) &&
+            is_sharp(c.esharp[p.n_corners + h1]);
+        if (child_crease || p.face[h0] == kNone || p.face[h1] == kNone) {
+          for (int k = 0; k < nw; ++k) out[k] = 0.5 * v0[k] + 0.5 * v1[k];
+          continue;
+        }
+        // The sharpness decays to zero at this level: blend crease and smooth by it.
+        const double pw = s, cw = 1.0 - pw;
+        vw = pw * 0.5 + cw * 0.25;
+        fw = cw * 0.25;
+      }
+      const double* f0 = dst + static_cast<std::size_t>(p.face[h0]) * nw;
+      const double* f1 = dst + static_cast<std::size_t>(p.face[h1]) * nw;
+      for (int k = 0; k < nw; ++k) out[k] = fw * f0[k] + fw * f1[k] + vw * v0[k] + vw * v1[k];
+    }
+  });
+}
+
+template <int W>
+void fvar(const Level& p, const double* src, double* dst, int w, const Context& ctx) {
+  const int nw = W ? W : w;
+  const std::uint32_t C = p.n_corners;
+  for_range(p.nf, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    std::vector<double> avg(static_cast<std::size_t>(nw));
+    for (std::uint32_t f = b; f < end; ++f) {
+      const std::uint32_t h0 = p.fh[f];
+      const int n = static_cast<int>(p.face_size(f));
+      Row<W>::zero(avg.data(), w);
+      std::uint32_t h = h0;
+      do {
+        Row<W>::add(avg.data(), src + static_cast<std::size_t>(h) * nw, 1.0 / n, w);
+        h = p.next[h];
+      } while (h != h0);
+      // Values sit on the child halfedges that end at each child corner (see the ring in
+      // refine_topology_catmark).
+      do {
+        const std::uint32_t g = p.next[h];
+        const double* a = src + static_cast<std::size_t>(h) * nw;
+        const double* bb = src + static_cast<std::size_t>(g) * nw;
+        Row<W>::set(dst + static_cast<std::size_t>(second_half(h, C)) * nw, a, 1.0, w);
+        double* m0 = dst + static_cast<std::size_t>(first_half(g, C)) * nw;
+        double* m1 = dst + static_cast<std::size_t>(2 * p.slot[h]) * nw;
+        for (int k = 0; k < nw; ++k) m0[k] = m1[k] = 0.5 * a[k] + 0.5 * bb[k];
+        Row<W>::set(dst + static_cast<std::size_t>(2 * p.slot[h] + 1) * nw, avg.data(), 1.0, w);
+        h = g;
+      } while (h != h0);
+    }
+  });
+}
+
+}  // namespace
+
+void interpolate_catmark(const Level& p, const Level& c, const double* src, double* dst,
+                         int w, const Context& ctx) {
+  if (w == 3)
+    face_and_edge_points<3>(p, c, src, dst, w, ctx);
+  else
+    face_and_edge_points<0>(p, c, src, dst, w, ctx);
+  vertex_points(p, c, src, dst, w, p.nf + p.ne, ctx);
+}
+
+void interpolate_fvar_catmark(const Level& p, const double* src, double* dst, int w,
+                              const Context& ctx) {
+  if (w == 2)
+    fvar<2>(p, src, dst, w, ctx);
+  else
+    fvar<0>(p, src, dst, w, ctx);
+}
+
+}  // namespace geom::detail::subdiv

@@ -1,0 +1,31 @@
+#pragma once
+/// \file
+/// Internal: limit masks applied to the vertices of a refinement level — OpenSubdiv's
+/// PrimvarRefiner::Limit. Smooth and dart vertices use the scheme's eigen-analysis masks
+/// (Catmull-Clark: v·(1 − n(e+f)) with f = 1/(n(n+5)), e = 4f on the ring's edge ends and
+/// opposite face corners; Loop: 1/(n + 3/(8γ)) on the edge ends), crease vertices the cubic
+/// B-spline limit (1/6, 2/3, 1/6) along the crease, corners stay.
+///
+/// Ref: J. Stam, "Exact evaluation of Catmull-Clark subdivision surfaces at arbitrary
+/// parameter values", SIGGRAPH 1998; M. Halstead, M. Kass, T. DeRose, "Efficient, fair
+/// interpolation using Catmull-Clark surfaces", SIGGRAPH 1993; C. Loop, 1987 (limit and
+/// tangent masks); OpenSubdiv Sdc::Scheme limit masks.
+
+#include <geom/subdivision/level.h>
+
+namespace geom::detail::subdiv {
+
+/// Limit positions of the vertices of `l` for data of width w (row-major), and unit limit
+/// normals (3 per vertex) from the first three columns when `normals` is non-null. Normals
+/// of smooth vertices come from the limit tangent masks; at crease and corner vertices they
+/// are the area-weighted normals of the adjacent faces through the limit points. Catmull-
+/// Clark masks take the corner two steps after the vertex in each face as its opposite.
+void limit_points(const Level& l, const double* src, double* dst, int w, double* normals,
+                  const Context& ctx);
+
+/// The same for the vertices of a SurfaceMesh refined in place, with `sharpness` holding
+/// the level's counts and sharpness (no normals).
+void limit_points(const SurfaceMesh& mesh, const Level& sharpness, const double* src,
+                  double* dst, int w, const Context& ctx);
+
+}  // namespace geom::detail::subdiv

@@ -1,0 +1,169 @@
+// Loop refinement of one level: each triangle splits into three corner triangles and a
+// middle one, numbered 4f + j (corner j) and 4f + 3 (middle), as OpenSubdiv numbers them.
+//
+// Corner triangle j of face f (parent halfedge h ending at corner j, hn = next(h)):
+//   second(h)   mid(h) → child(v_j)
+//   first(hn)   child(v_j) → mid(hn)
+//   2·slot(h)   mid(hn) → mid(h)       (the interior edge cutting corner j)
+// rotated so that child(v_j) is its corner j. The middle triangle is the 2·slot + 1
+// halfedges, starting at mid(h_2) as OpenSubdiv starts it.
+//
+// Ref: C. Loop, "Smooth subdivision surfaces based on triangles", 1987; OpenSubdiv
+// Sdc::Scheme<SCHEME_LOOP>.
+
+#include <geom/subdivision/level.h>
+
+namespace geom::detail::subdiv {
+
+namespace {
+
+template <class Sink>
+void loop_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
+  const std::uint32_t E = p.ne, V = p.nv, C = p.n_corners;
+  set_child_counts(p, c, false);
+  out.allocate(ctx);
+  c.parent_face.resize(ctx.parent_faces ? c.nf : 0);
+  for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t h = b; h < end; ++h) {
+      const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
+      out.to(fst, h >> 1);
+      out.to(snd, E + p.to[h]);
+      const std::uint32_t f = p.face[h];
+      const std::uint32_t hn = p.next[h];
+      if (f == kNone) {
+        out.next(fst, snd);
+        out.next(snd, first_half(hn, C));
+        out.face(fst, kNone);
+        out.face(snd, kNone);
+        if (!ctx.last) {
+          out.slot(fst, kNone);
+          out.slot(snd, kNone);
+        }
+        continue;
+      }
+      const std::uint32_t sl = p.slot[h];
+      const std::uint32_t j = sl - 3 * f;
+      const std::uint32_t cf = 4 * f + j, mid = 4 * f + 3;
+      const std::uint32_t ring[3] = {snd, first_half(hn, C), 2 * sl};
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        out.next(ring[k], ring[k == 2 ? 0 : k + 1]);
+        out.face(ring[k], cf);
+        if (!ctx.last) out.slot(ring[k], 3 * cf + (k + j) % 3);
+      }
+      out.fh(cf, ring[(3 - j) % 3]);
+      if (ctx.parent_faces) c.parent_face[cf] = f;
+      const std::uint32_t inner = 2 * sl + 1;
+      out.to(2 * sl, h >> 1);
+      out.to(inner, hn >> 1);
+      out.next(inner, 2 * p.slot[hn] + 1);
+      out.face(inner, mid);
+      if (!ctx.last) out.slot(inner, 3 * mid + (j + 2) % 3);
+      if (j == 1) {
+        out.fh(mid, inner);
+        if (ctx.parent_faces) c.parent_face[mid] = f;
+      }
+    }
+  });
+  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e)
+      out.vh(e, p.face[2 * e + 1] == kNone ? second_half(2 * e + 1, C) : second_half(2 * e, C));
+  });
+  for_range(V, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t v = b; v < end; ++v)
+      out.vh(E + v, p.vh[v] == kNone ? kNone : first_half(p.vh[v], C));
+  });
+  refine_sharpness(p, c, E, ctx);
+}
+
+}  // namespace
+
+void refine_topology_loop(const Level& p, Level& c, const Context& ctx) {
+  LevelSink sink{c};
+  loop_topology(p, c, sink, ctx);
+}
+
+void refine_topology_loop(const Level& p, Level& c, SurfaceMesh& mesh, const Context& ctx) {
+  MeshSink sink{mesh};
+  loop_topology(p, c, sink, ctx);
+}
+
+namespace {
+
+template <int W>
+void edge_points(const Level& p, const Level& c, const double* src, double* dst, int w,
+                 const Context& ctx) {
+  const int nw = W ? W : w;
+  const bool sharp = p.has_sharpness();
+  const bool child_sharp = c.has_sharpness();
+  for_range(p.ne, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e) {
+      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
+      const double* v0 = src + static_cast<std::size_t>(p.to[h1]) * nw;
+      const double* v1 = src + static_cast<std::size_t>(p.to[h0]) * nw;
+      double* out = dst + static_cast<std::size_t>(e) * nw;
+      const float s = sharp ? p.esharp[e] : kSmooth;
+      double vw = 0.375, fw = 0.125;
+      if (is_sharp(s)) {
+        const bool child_crease =
+            child_sharp && is_sharp(c.esharp[p.n_corners + h0]) &&
+            is_sharp(c.esharp[p.n_corners + h1]);
+        if (child_crease || p.face[h0] == kNone || p.face[h1] == kNone) {
+          for (int k = 0; k < nw; ++k) out[k] = 0.5 * v0[k] + 0.5 * v1[k];
+          continue;
+        }
+        const double pw = s, cw = 1.0 - pw;
+        vw = pw * 0.5 + cw * 0.375;
+        fw = cw * 0.125;
+      }
+      // The face weights of Loop's edge mask go to the corner opposite the edge.
+      const double* o0 = src + static_cast<std::size_t>(p.to[p.next[h0]]) * nw;
+      const double* o1 = src + static_cast<std::size_t>(p.to[p.next[h1]]) * nw;
+      for (int k = 0; k < nw; ++k) out[k] = fw * o0[k] + fw * o1[k] + vw * v0[k] + vw * v1[k];
+    }
+  });
+}
+
+template <int W>
+void fvar(const Level& p, const double* src, double* dst, int w, const Context& ctx) {
+  const int nw = W ? W : w;
+  const std::uint32_t C = p.n_corners;
+  for_range(p.nf, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t f = b; f < end; ++f) {
+      const std::uint32_t h0 = p.fh[f];
+      std::uint32_t h = h0;
+      do {
+        const std::uint32_t hn = p.next[h];
+        const double* a = src + static_cast<std::size_t>(h) * nw;
+        const double* bb = src + static_cast<std::size_t>(hn) * nw;
+        Row<W>::set(dst + static_cast<std::size_t>(second_half(h, C)) * nw, a, 1.0, w);
+        // mid(hn) is a corner of triangles j and j + 1 and of the middle one.
+        double* m0 = dst + static_cast<std::size_t>(first_half(hn, C)) * nw;
+        double* m1 = dst + static_cast<std::size_t>(2 * p.slot[hn]) * nw;
+        double* m2 = dst + static_cast<std::size_t>(2 * p.slot[h] + 1) * nw;
+        for (int k = 0; k < nw; ++k) m0[k] = m1[k] = m2[k] = 0.5 * a[k] + 0.5 * bb[k];
+        h = hn;
+      } while (h != h0);
+    }
+  });
+}
+
+}  // namespace
+
+void interpolate_loop(const Level& p, const Level& c, const double* src, double* dst, int w,
+                      const Context& ctx) {
+  if (w == 3)
+    edge_points<3>(p, c, src, dst, w, ctx);
+  else
+    edge_points<0>(p, c, src, dst, w, ctx);
+  vertex_points(p, c, src, dst, w, p.ne, ctx);
+}
+
+void interpolate_fvar_loop(const Level& p, const double* src, double* dst, int w,
+                           const Context& ctx) {
+  if (w == 2)
+    fvar<2>(p, src, dst, w, ctx);
+  else
+    fvar<0>(p, src, dst, w, ctx);
+}
+
+}  // namespace geom::detail::subdiv

@@ -1,0 +1,133 @@
+#pragma once
+/// \file
+/// Uniform subdivision surfaces: Catmull-Clark on any polygon mesh and Loop on triangle
+/// meshes, with OpenSubdiv's boundary interpolation modes, semi-sharp and infinitely sharp
+/// creases and corners, linear face-varying data, and limit positions. The numbers are
+/// OpenSubdiv's (Far::TopologyRefiner + PrimvarRefiner), vertex for vertex: the refined
+/// mesh lists child vertices as face-points, edge-points, then vertex-points, each group in
+/// its parent's index order, and the child faces of parent face f (in order, one per corner,
+/// plus Loop's middle triangle last) follow those of face f - 1.
+///
+/// Creases are mesh properties: edge property "e:sharpness" and vertex property
+/// "v:sharpness" (double; prop::kEdgeSharpness / prop::kVertexSharpness in core/soup.h).
+/// Sharpness 0 is smooth, values in (0, 10) are semi-sharp (they decay by one per level),
+/// 10 and above are infinitely sharp — OpenSubdiv's convention, held in single precision
+/// internally as OpenSubdiv holds it so fractional sharpness gives the same weights.
+///
+/// Ref: E. Catmull, J. Clark, "Recursively generated B-spline surfaces on arbitrary
+/// topological meshes", CAD 1978. C. Loop, "Smooth subdivision surfaces based on
+/// triangles", MS thesis, 1987. T. DeRose, M. Kass, T. Truong, "Subdivision surfaces in
+/// character animation", SIGGRAPH 1998 (semi-sharp creases). J. Stam, "Exact evaluation of
+/// Catmull-Clark subdivision surfaces at arbitrary parameter values", SIGGRAPH 1998; H.
+/// Biermann, A. Levin, D. Zorin, "Piecewise smooth subdivision surfaces with normal
+/// control", SIGGRAPH 2000 (limit masks). OpenSubdiv 3 documentation, "Subdivision
+/// Surfaces" (Sdc rules).
+
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace geom {
+
+enum class SubdivisionScheme {
+  kCatmullClark,  ///< quads out of any polygons
+  kLoop,          ///< triangles; input must be a triangle mesh
+};
+
+/// OpenSubdiv's Sdc::Options::VtxBoundaryInterpolation. Boundary edges are always refined
+/// as infinitely sharp creases; the modes differ at corners.
+enum class BoundaryInterpolation {
+  kNone = 0,            ///< OpenSubdiv VTX_BOUNDARY_NONE (there the boundary faces become
+                        ///< holes of the limit surface; geom keeps them, refined as kEdges)
+  kEdges = 1,           ///< VTX_BOUNDARY_EDGE_ONLY: boundary is a smooth crease curve
+  kEdgesAndCorners = 2, ///< VTX_BOUNDARY_EDGE_AND_CORNER: vertices with one face stay put
+};
+
+/// OpenSubdiv's Sdc::Options::CreasingMethod.
+enum class CreaseMethod {
+  kUniform,  ///< semi-sharp sharpness decreases by 1 per level
+  kChaikin,  ///< a child edge's sharpness also averages its sharp neighbours'
+};
+
+struct SubdivideOptions {
+  SubdivisionScheme scheme = SubdivisionScheme::kCatmullClark;
+  /// Uniform refinement levels (0 returns a copy, or its limit when `limit` is set).
+  int levels = 1;
+  BoundaryInterpolation boundary = BoundaryInterpolation::kEdges;
+  CreaseMethod crease_method = CreaseMethod::kUniform;
+  /// Move the final vertices onto the limit surface (OpenSubdiv's PrimvarRefiner::Limit).
+  /// For Catmull-Clark with levels = 0 every face must be a quad.
+  bool limit = false;
+  /// When set, edges whose dihedral angle exceeds this many degrees are made infinitely
+  /// sharp (on top of any "e:sharpness" the mesh has). Must be in [0, 180].
+  std::optional<double> crease_angle;
+  /// Use TBB across faces/edges/vertices on large levels.
+  bool parallel = true;
+  /// Called after each level with the fraction done; return false to cancel (the call then
+  /// throws geom::Error "cancelled").
+  std::function<bool(double)> progress;
+};
+
+/// Counts of one refinement level (level 0 is the input).
+struct LevelCounts {
+  std::size_t vertices = 0, edges = 0, faces = 0;
+};
+
+struct SubdivideResult {
+  SurfaceMesh mesh;
+  int levels = 0;
+  std::vector<LevelCounts> per_level;  ///< levels + 1 entries
+  /// Edges made sharp by options.crease_angle.
+  std::size_t angle_creased_edges = 0;
+  /// With options.limit: how far the final vertices moved onto the limit surface (the
+  /// error of the plain level-k vertices as samples of the limit surface).
+  double limit_max_distance = 0.0;
+  double limit_rms_distance = 0.0;
+};
+
+/// Refine `mesh` uniformly. Every vertex property of type double, float or an Eigen
+/// 2/3/4-vector of double or float is refined with the vertex weights (positions, colours,
+/// normals as data, ...); halfedge (corner) properties of those types, such as
+/// "h:texcoord", are refined as linear face-varying data (OpenSubdiv FVAR_LINEAR_ALL); face
+/// properties are copied from parent to child faces; "e:sharpness" / "v:sharpness" carry
+/// the decayed sharpness of the final level when the input had them. Other properties are
+/// dropped. Isolated vertices are kept in place.
+/// Pre: `mesh` is valid (validate()); deleted elements are ignored.
+/// Throws: TopologyError naming the vertex when the mesh is non-manifold at a vertex (more
+/// than one fan); InvalidArgument when Loop is asked for a mesh with a non-triangle face
+/// (naming it), when levels is outside [0, 10], when the result would exceed 2^31 elements,
+/// when crease_angle is outside [0, 180], when a sharpness is NaN, or when limit is asked at
+/// level 0 of a Catmull-Clark mesh with a non-quad face; Error("cancelled") when the
+/// progress callback returns false.
+/// Complexity: O(output size); memory about 2× the output mesh.
+SubdivideResult subdivide(const SurfaceMesh& mesh, const SubdivideOptions& options = {});
+
+struct LimitOptions {
+  SubdivisionScheme scheme = SubdivisionScheme::kCatmullClark;
+  BoundaryInterpolation boundary = BoundaryInterpolation::kEdges;
+  bool normals = false;  ///< also compute unit limit normals
+};
+
+struct LimitResult {
+  /// One per live vertex in index order (a mesh with deleted elements is compacted first);
+  /// isolated vertices keep their position.
+  std::vector<Point> positions;
+  std::vector<Normal> normals;   ///< when asked; zero where the tangents are degenerate
+  double max_distance = 0.0;     ///< largest |limit − vertex|
+  double rms_distance = 0.0;
+};
+
+/// Limit positions (and normals) of the vertices of `mesh`, taken as a control mesh of the
+/// scheme with its "e:sharpness"/"v:sharpness" creases. Catmull-Clark masks assume quads
+/// around each vertex, Loop masks triangles (subdivide once first otherwise).
+/// Throws: InvalidArgument naming a face that is not a quad (Catmull-Clark) or a triangle
+/// (Loop); TopologyError for a non-manifold vertex.
+/// Complexity: O(V + E).
+/// Ref: OpenSubdiv Sdc limit masks (Halstead, Kass, DeRose, "Efficient, fair interpolation
+/// using Catmull-Clark surfaces", SIGGRAPH 1993).
+LimitResult limit_positions(const SurfaceMesh& mesh, const LimitOptions& options = {});
+
+}  // namespace geom

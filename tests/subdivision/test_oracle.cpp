@@ -1,0 +1,279 @@
+// Oracle tests: geom's refinement against OpenSubdiv Far, vertex by vertex and face by face,
+// at levels 1-3, plus limit positions and linear face-varying UVs.
+
+#include "osd_oracle.h"
+#include "shapes.h"
+#include "support/data.h"
+
+#include <geom/core/build.h>
+#include <geom/core/validate.h>
+#include <geom/io/io.h>
+#include <geom/subdivision/subdivision.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace geom {
+namespace {
+
+using test::OsdParams;
+
+double bbox_size(const SurfaceMesh& m) {
+  Eigen::AlignedBox3d box;
+  for (Vertex v : m.vertices()) box.extend(m.position(v));
+  return box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
+}
+
+/// Refine with geom and OpenSubdiv and require equal counts, faces and positions (within
+/// 1e-12 × bounding-box size) at every level up to params.levels, then equal limit
+/// positions and face-varying UVs of the last level.
+void expect_matches_osd(const SurfaceMesh& input, const OsdParams& params,
+                        const std::string& what) {
+  SCOPED_TRACE(what);
+  const test::OsdRun osd = test::run_osd(input, params);
+  const double tol = 1e-12 * bbox_size(input);
+  for (int k = 1; k <= params.levels; ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    SubdivideOptions o;
+    o.scheme = params.scheme;
+    o.levels = k;
+    o.boundary = params.boundary;
+    o.crease_method = params.crease_method;
+    const SubdivideResult r = subdivide(input, o);
+    ASSERT_TRUE(validate(r.mesh).ok()) << validate(r.mesh).to_string();
+    ASSERT_EQ(r.mesh.n_vertices(), osd.positions[k].size());
+    ASSERT_EQ(r.mesh.n_faces(), osd.faces[k].size());
+    double worst = 0.0;
+    std::size_t worst_v = 0;
+    for (Vertex v : r.mesh.vertices()) {
+      double d = (r.mesh.position(v) - osd.positions[k][v.idx()]).norm();
+      if (d > worst) {
+        worst = d;
+        worst_v = v.idx();
+      }
+    }
+    EXPECT_LE(worst, tol) << "vertex " << worst_v << " ours " << r.mesh.position(Vertex(worst_v)).transpose()
+                          << " osd " << osd.positions[k][worst_v].transpose();
+    std::size_t face_mismatch = 0;
+    for (Face f : r.mesh.faces()) {
+      std::vector<int> ours;
+      for (Vertex v : r.mesh.vertices(f)) ours.push_back(static_cast<int>(v.idx()));
+      if (ours != osd.faces[k][f.idx()]) ++face_mismatch;
+    }
+    EXPECT_EQ(face_mismatch, 0u);
+    if (k == params.levels) {
+      auto uv = r.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+      if (uv && !osd.corner_uv.empty()) {
+        double uv_worst = 0.0;
+        for (Face f : r.mesh.faces()) {
+          int j = 0;
+          for (Halfedge h : r.mesh.halfedges(f))
+            uv_worst = std::max(uv_worst, (uv[h] - osd.corner_uv[f.idx()][j++]).norm());
+        }
+        EXPECT_LE(uv_worst, 1e-12) << "face-varying UVs";
+      }
+      o.limit = true;
+      const SubdivideResult lim = subdivide(input, o);
+      double lim_worst = 0.0;
+      for (Vertex v : lim.mesh.vertices())
+        lim_worst = std::max(lim_worst, (lim.mesh.position(v) - osd.limit[v.idx()]).norm());
+      EXPECT_LE(lim_worst, tol) << "limit positions";
+      EXPECT_GE(lim.limit_max_distance, lim.limit_rms_distance);
+    }
+  }
+}
+
+OsdParams cc(int levels = 3, BoundaryInterpolation b = BoundaryInterpolation::kEdges) {
+  OsdParams p;
+  p.levels = levels;
+  p.boundary = b;
+  return p;
+}
+OsdParams loop(int levels = 3, BoundaryInterpolation b = BoundaryInterpolation::kEdges) {
+  OsdParams p = cc(levels, b);
+  p.scheme = SubdivisionScheme::kLoop;
+  return p;
+}
+
+TEST(CatmullClark, MatchesOpenSubdivOnTetrahedron) { expect_matches_osd(test::tetrahedron(), cc(), "tet"); }
+TEST(CatmullClark, MatchesOpenSubdivOnCube) { expect_matches_osd(test::cube(), cc(), "cube"); }
+
+TEST(CatmullClark, MatchesOpenSubdivOnQuadGridInEveryBoundaryMode) {
+  for (auto b : {BoundaryInterpolation::kNone, BoundaryInterpolation::kEdges,
+                 BoundaryInterpolation::kEdgesAndCorners})
+    expect_matches_osd(test::quad_grid(4, 3), cc(3, b), "grid mode " + std::to_string(int(b)));
+}
+
+TEST(CatmullClark, MatchesOpenSubdivOnMixedPolygons) {
+  expect_matches_osd(test::mixed_polygons(), cc(), "mixed");
+}
+
+TEST(CatmullClark, MatchesOpenSubdivAtValences3To12) {
+  for (int n = 3; n <= 12; ++n) expect_matches_osd(test::pyramid(n), cc(2), "pyramid " + std::to_string(n));
+}
+
+TEST(CatmullClark, MatchesOpenSubdivOnCreasedCube) {
+  expect_matches_osd(test::creased_cube(), cc(), "creased cube");
+}
+
+TEST(CatmullClark, MatchesOpenSubdivOnCreasedCubeWithChaikin) {
+  SurfaceMesh m = test::creased_cube();
+  test::set_crease(m, 7, 4, 1.2);  // semi-sharp neighbours for Chaikin's averaging
+  test::set_crease(m, 4, 0, 3.3);
+  OsdParams p = cc();
+  p.crease_method = CreaseMethod::kChaikin;
+  expect_matches_osd(m, p, "chaikin cube");
+}
+
+TEST(CatmullClark, MatchesOpenSubdivOnCreasedGridWithBoundary) {
+  SurfaceMesh m = test::quad_grid(4, 4);
+  test::set_crease(m, 6, 7, 0.7);
+  test::set_crease(m, 7, 8, 1.9);
+  test::set_crease(m, 12, 17, 10.0);
+  test::set_corner(m, 18, 0.4);
+  for (auto b : {BoundaryInterpolation::kEdges, BoundaryInterpolation::kEdgesAndCorners})
+    expect_matches_osd(m, cc(3, b), "creased grid");
+}
+
+TEST(Loop, MatchesOpenSubdivOnIcosahedron) { expect_matches_osd(test::icosahedron(), loop(), "icosahedron"); }
+TEST(Loop, MatchesOpenSubdivOnTetrahedron) { expect_matches_osd(test::tetrahedron(), loop(), "tet"); }
+
+TEST(Loop, MatchesOpenSubdivOnOpenTriangleStripInEveryBoundaryMode) {
+  for (auto b : {BoundaryInterpolation::kNone, BoundaryInterpolation::kEdges,
+                 BoundaryInterpolation::kEdgesAndCorners})
+    expect_matches_osd(test::triangle_strip(5), loop(3, b), "strip mode " + std::to_string(int(b)));
+}
+
+TEST(Loop, MatchesOpenSubdivAtValences3To12) {
+  for (int n = 3; n <= 12; ++n)
+    expect_matches_osd(test::bipyramid_fan(n), loop(2), "bipyramid " + std::to_string(n));
+}
+
+TEST(Loop, MatchesOpenSubdivOnCreasedIcosahedron) {
+  SurfaceMesh m = test::icosahedron();
+  test::set_crease(m, 0, 11, 0.5);
+  test::set_crease(m, 11, 5, 1.5);
+  test::set_crease(m, 5, 0, 2.7);
+  test::set_crease(m, 3, 9, 10.0);
+  test::set_crease(m, 9, 4, 10.0);
+  test::set_corner(m, 6, 1.0);
+  expect_matches_osd(m, loop(), "creased icosahedron");
+  OsdParams p = loop();
+  p.crease_method = CreaseMethod::kChaikin;
+  expect_matches_osd(m, p, "creased icosahedron, Chaikin");
+}
+
+TEST(FaceVarying, LinearUVsMatchOpenSubdivWithSeams) {
+  SurfaceMesh m = test::cube();
+  auto uv = m.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord, TexCoord::Zero());
+  // A per-face atlas: every cube edge is a seam.
+  for (Face f : m.faces()) {
+    int j = 0;
+    for (Halfedge h : m.halfedges(f)) {
+      uv[h] = TexCoord(f.idx() + (j == 1 || j == 2 ? 0.9 : 0.1), (j >= 2 ? 0.9 : 0.1) + 0.01 * j);
+      ++j;
+    }
+  }
+  expect_matches_osd(m, cc(), "cube uv");
+  SurfaceMesh t = test::icosahedron();
+  auto tuv = t.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord, TexCoord::Zero());
+  for (Halfedge h : t.halfedges())
+    if (!t.is_boundary(h)) tuv[h] = TexCoord(t.position(t.to_vertex(h)).x(), 0.1 * h.idx());
+  expect_matches_osd(t, loop(2), "icosahedron uv");
+}
+
+TEST(Limit, SmoothVertexNormalsMatchOpenSubdivTangents) {
+  for (auto scheme : {SubdivisionScheme::kCatmullClark, SubdivisionScheme::kLoop}) {
+    const bool loop_scheme = scheme == SubdivisionScheme::kLoop;
+    SubdivideOptions o;
+    o.scheme = scheme;
+    o.levels = 1;
+    // Extraordinary vertices of valence 3 to 12 (pyramids, bipyramids) after one level.
+    for (int n = 3; n <= 12; n += 3) {
+      const SurfaceMesh control = subdivide(loop_scheme ? test::bipyramid_fan(n) : test::pyramid(n), o).mesh;
+      LimitOptions lo;
+      lo.scheme = scheme;
+      lo.normals = true;
+      const LimitResult ours = limit_positions(control, lo);
+      const auto osd = test::osd_limit_normals(control, scheme);
+      for (Vertex v : control.vertices()) {
+        // OpenSubdiv's tangents may come out in either handedness; compare directions.
+        const double c = std::abs(ours.normals[v.idx()].dot(osd[v.idx()]));
+        EXPECT_NEAR(c, 1.0, 1e-9) << "n=" << n << " vertex " << v.idx();
+      }
+    }
+  }
+}
+
+// ---- the corpus: OpenSubdiv's own regression shapes and small real meshes -------------
+
+BoundaryInterpolation boundary_of_tag(std::optional<int> tag) {
+  // Shape files use RenderMan's values: 0 none, 1 edges and corners, 2 edges only.
+  if (!tag) return BoundaryInterpolation::kEdges;
+  if (*tag == 0) return BoundaryInterpolation::kNone;
+  if (*tag == 1) return BoundaryInterpolation::kEdgesAndCorners;
+  return BoundaryInterpolation::kEdges;
+}
+
+TEST(Corpus, MatchesOpenSubdivOnItsRegressionShapes) {
+  GEOM_REQUIRE_DATA_DIR(dir);
+  const auto shapes = dir / "opensubdiv";
+  if (!std::filesystem::is_directory(shapes)) GTEST_SKIP() << "no opensubdiv/ shapes";
+  int tested = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(shapes)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".obj") continue;
+    PolygonSoup soup = read_soup(entry.path());
+    BuildResult built = build(soup);
+    OsdParams p = cc(name.rfind("catmark_", 0) == 0 && built.mesh.n_faces() < 200 ? 3 : 2,
+                     boundary_of_tag(soup.boundary_interpolation));
+    if (name.rfind("loop_", 0) == 0) {
+      if (!built.mesh.is_triangle_mesh()) continue;
+      p.scheme = SubdivisionScheme::kLoop;
+    }
+    std::ifstream text(entry.path());
+    std::stringstream all;
+    all << text.rdbuf();
+    if (all.str().find("creasemethod 0/0/1 chaikin") != std::string::npos)
+      p.crease_method = CreaseMethod::kChaikin;
+    expect_matches_osd(built.mesh, p, name);
+    ++tested;
+  }
+  EXPECT_GE(tested, 30);
+}
+
+TEST(Corpus, MatchesOpenSubdivOnSmallRealMeshes) {
+  GEOM_REQUIRE_DATA_DIR(dir);
+  struct Case {
+    const char* file;
+    SubdivisionScheme scheme;
+    int levels;
+  };
+  const Case cases[] = {
+      {"cube_quads.off", SubdivisionScheme::kCatmullClark, 3},
+      {"cube_tris.obj", SubdivisionScheme::kLoop, 3},
+      {"chamfer-cube.off", SubdivisionScheme::kCatmullClark, 3},
+      {"TinyTorus.obj", SubdivisionScheme::kLoop, 3},
+      {"icosahedron_binary.stl", SubdivisionScheme::kLoop, 3},
+      {"spot_control_mesh.obj", SubdivisionScheme::kCatmullClark, 2},
+      {"cylinder.obj", SubdivisionScheme::kCatmullClark, 2},
+      {"suzanne.obj", SubdivisionScheme::kCatmullClark, 2},
+      {"halftunnel.off", SubdivisionScheme::kCatmullClark, 1},
+  };
+  for (const Case& c : cases) {
+    const auto path = dir / c.file;
+    if (!std::filesystem::exists(path)) continue;
+    LoadResult loaded = load_mesh(path);
+    OsdParams p = cc(c.levels);
+    p.scheme = c.scheme;
+    expect_matches_osd(loaded.mesh, p, c.file);
+  }
+}
+
+}  // namespace
+}  // namespace geom
