@@ -1,0 +1,199 @@
+// bench_lod: our quadric simplifier against meshoptimizer, OpenMesh and CGAL on the same
+// inputs and targets; error measured by geom's sampled Hausdorff/RMS tool for everyone.
+//
+//   bench_lod [--faces N] [--peers ours,meshopt,openmesh,cgal] [--slow-max-faces N]
+//
+// Times are process CPU seconds (std::clock), min of 2 runs for the fast methods: every
+// method is single-threaded, and CPU time stays meaningful on a loaded shared machine where
+// wall time does not.
+//
+// --faces sets the generated torus size (default 1,000,000 triangles); slow peers
+// (OpenMesh, CGAL) run on inputs up to --slow-max-faces (default: all).
+
+#include <geom/lod/simplify.h>
+#include <geom/spatial/distance.h>
+#ifdef GEOM_BENCH_HAVE_IO
+#include <geom/io/io.h>
+#endif
+
+#include "lod_peers.h"
+#include "support/harness.h"
+
+#include <meshoptimizer.h>
+
+#include <cmath>
+#include <ctime>
+#include <numbers>
+#include <random>
+#include <set>
+
+using namespace geom;
+using namespace geom::bench;
+
+namespace {
+
+template <class F>
+double cpu_time_min(F&& f, int repeats) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < repeats; ++i) {
+    const std::clock_t t0 = std::clock();
+    f();
+    best = std::min(best, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
+  }
+  return best;
+}
+
+// A torus sampled on a jittered parameter grid with radial noise: irregular triangle
+// shapes and sizes, like a scan, but watertight.
+TriangleArrays noisy_torus(std::size_t faces) {
+  const int nv = std::max(3, static_cast<int>(std::sqrt(faces / 4.0)));
+  const int nu = std::max(3, static_cast<int>(faces / (2.0 * nv)));
+  TriangleArrays m;
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double a = 2 * std::numbers::pi * (i + 0.3 * uni(rng)) / nu;
+      const double b = 2 * std::numbers::pi * (j + 0.3 * uni(rng)) / nv;
+      const double r = 0.35 * (1 + 0.01 * uni(rng)) + 0.02 * std::sin(7 * a) * std::cos(5 * b);
+      m.positions.emplace_back((1 + r * std::cos(b)) * std::cos(a), (1 + r * std::cos(b)) * std::sin(a),
+                               r * std::sin(b));
+    }
+  auto at = [&](int i, int j) { return static_cast<std::uint32_t>((i % nu) * nv + (j % nv)); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+SurfaceMesh to_mesh(const TriangleArrays& t) {
+  SurfaceMesh m;
+  for (const auto& p : t.positions) m.add_vertex(p);
+  for (const auto& f : t.triangles) m.add_triangle(Vertex(f[0]), Vertex(f[1]), Vertex(f[2]));
+  return m;
+}
+
+TriangleArrays to_arrays(const SurfaceMesh& m) {
+  TriangleArrays t;
+  std::vector<std::uint32_t> index(m.vertices_size(), 0);
+  for (Vertex v : m.vertices()) {
+    index[v.idx()] = static_cast<std::uint32_t>(t.positions.size());
+    t.positions.push_back(m.position(v));
+  }
+  for (Face f : m.faces()) {
+    std::vector<std::uint32_t> c;
+    for (Vertex v : m.vertices(f)) c.push_back(index[v.idx()]);
+    for (std::size_t k = 1; k + 1 < c.size(); ++k) t.triangles.push_back({c[0], c[k], c[k + 1]});
+  }
+  return t;
+}
+
+PeerRun simplify_meshopt(const TriangleArrays& in, std::size_t target_faces) {
+  std::vector<float> pos;
+  pos.reserve(in.positions.size() * 3);
+  for (const auto& p : in.positions) pos.insert(pos.end(), {float(p.x()), float(p.y()), float(p.z())});
+  std::vector<unsigned> idx;
+  idx.reserve(in.triangles.size() * 3);
+  for (const auto& t : in.triangles) idx.insert(idx.end(), t.begin(), t.end());
+  std::vector<unsigned> out(idx.size());
+  PeerRun run;
+  std::size_t n = 0;
+  run.seconds = cpu_time_min([&] {
+    float err = 0;
+    n = meshopt_simplify(out.data(), idx.data(), idx.size(), pos.data(), in.positions.size(),
+                         3 * sizeof(float), target_faces * 3, 1.0f, 0, &err);
+  }, 2);
+  run.mesh.positions = in.positions;
+  for (std::size_t i = 0; i + 2 < n; i += 3) run.mesh.triangles.push_back({out[i], out[i + 1], out[i + 2]});
+  return run;
+}
+
+PeerRun simplify_ours(const SurfaceMesh& in, std::size_t target_faces) {
+  PeerRun run;
+  SimplifyResult r;
+  run.seconds = cpu_time_min([&] { r = simplify(in, {.target_faces = target_faces}); }, 2);
+  run.mesh = to_arrays(r.mesh);
+  return run;
+}
+
+struct Input {
+  std::string name;
+  TriangleArrays arrays;
+  SurfaceMesh mesh;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::size_t torus_faces = 1000000, slow_max = std::numeric_limits<std::size_t>::max();
+  std::set<std::string> peers{"ours", "meshopt", "openmesh", "cgal"};
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i], val = argv[i + 1];
+    if (arg == "--faces") torus_faces = std::stoul(val);
+    else if (arg == "--slow-max-faces") slow_max = std::stoul(val);
+    else if (arg == "--peers") {
+      peers.clear();
+      std::size_t s = 0;
+      while (s <= val.size()) {
+        const std::size_t e = std::min(val.find(',', s), val.size());
+        peers.insert(val.substr(s, e - s));
+        s = e + 1;
+      }
+    } else {
+      std::cerr << "unknown option " << arg << "\n";
+      return 2;
+    }
+  }
+
+  std::vector<Input> inputs;
+  {
+    Input in{"torus-" + std::to_string(torus_faces / 1000) + "k", noisy_torus(torus_faces), {}};
+    in.mesh = to_mesh(in.arrays);
+    inputs.push_back(std::move(in));
+  }
+#ifdef GEOM_BENCH_HAVE_IO
+  if (auto dir = data_dir())
+    for (const char* name : {"bunny_closed.off", "armadillo.obj", "nefertiti.obj", "amo.ply", "fandisk.off"}) {
+      try {
+        Input in{name, {}, load_mesh(*dir / name).mesh};
+        in.arrays = to_arrays(in.mesh);
+        inputs.push_back(std::move(in));
+      } catch (const std::exception& e) {
+        std::cerr << "skipping " << name << ": " << e.what() << "\n";
+      }
+    }
+#endif
+
+  Table table({"input", "faces", "target", "method", "seconds", "ratio_vs_meshopt", "achieved",
+               "hausdorff_rel", "rms_rel"});
+  for (const Input& in : inputs) {
+    const TriangleBvh original(in.arrays.positions, in.arrays.triangles);
+    const std::size_t f0 = in.arrays.triangles.size();
+    for (double ratio : {0.5, 0.1, 0.01}) {
+      const auto target = static_cast<std::size_t>(std::llround(ratio * f0));
+      double meshopt_seconds = 0;
+      auto report = [&](const std::string& method, const PeerRun& run) {
+        const TriangleBvh simplified(run.mesh.positions, run.mesh.triangles);
+        const MeshDistance d = mesh_distance(original, simplified, {.samples = 500000});
+        if (method == "meshopt") meshopt_seconds = run.seconds;
+        table.add({in.name, std::to_string(f0), std::to_string(target), method, fmt(run.seconds, 4),
+                   method == "meshopt" ? std::string("1x") : geom::bench::ratio(run.seconds, meshopt_seconds),
+                   std::to_string(run.mesh.triangles.size()), fmt(d.relative_hausdorff(), 3),
+                   fmt(d.relative_rms(), 3)});
+        std::cerr << in.name << " " << target << " " << method << " " << run.seconds << " s\n";
+      };
+      if (peers.count("meshopt")) report("meshopt", simplify_meshopt(in.arrays, target));
+      if (peers.count("ours")) report("ours", simplify_ours(in.mesh, target));
+      if (f0 <= slow_max) {
+        if (peers.count("openmesh")) report("openmesh", simplify_openmesh(in.arrays, target));
+        if (peers.count("cgal")) report("cgal", simplify_cgal(in.arrays, target));
+      }
+    }
+  }
+  table.print();
+  table.write_csv(out_dir() / "lod.csv");
+  std::cout << "wrote " << (out_dir() / "lod.csv").string() << "\n";
+  return 0;
+}

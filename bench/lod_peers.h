@@ -1,0 +1,28 @@
+#pragma once
+// Peer simplifiers for bench_lod, each in its own translation unit (CGAL's compile time
+// stays out of the main benchmark file).
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace geom::bench {
+
+struct TriangleArrays {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+struct PeerRun {
+  TriangleArrays mesh;
+  double seconds = 0;  ///< CPU seconds of the simplification call only (no conversions)
+};
+
+/// CGAL Surface_mesh_simplification::edge_collapse with GarlandHeckbert_plane_policies.
+PeerRun simplify_cgal(const TriangleArrays& input, std::size_t target_faces);
+/// OpenMesh DecimaterT + ModQuadricT (no error bound).
+PeerRun simplify_openmesh(const TriangleArrays& input, std::size_t target_faces);
+
+}  // namespace geom::bench

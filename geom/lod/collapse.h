@@ -1,0 +1,131 @@
+#pragma once
+/// \file
+/// The edge-collapse engine behind simplify() and ProgressiveMesh: flat triangle arrays,
+/// per-vertex incident-triangle lists, Garland–Heckbert quadrics and a binary heap with
+/// lazy re-evaluation. Internal to geom/lod.
+///
+/// Heap entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
+/// sum means neither changed). A collapse only adds quadrics, so the costs of the edges
+/// around the survivor can only grow: their old entries stay valid lower bounds and are
+/// re-evaluated when they reach the top instead of being replaced eagerly, which keeps the
+/// heap near the number of edges.
+
+#include <geom/core/surface_mesh.h>
+#include <geom/lod/quadric.h>
+#include <geom/lod/simplify.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace geom::detail {
+
+inline constexpr std::uint32_t kNone = 0xffffffffu;
+
+/// One performed collapse: vertex u merged into v, v moved to pos_v_after.
+struct CollapseRecord {
+  std::uint32_t u = kNone, v = kNone;
+  Point pos_u, pos_v_before, pos_v_after;
+  /// Corners (3 × triangle + slot) that held u and now hold v:
+  /// changed[changed_begin .. changed_end).
+  std::uint32_t changed_begin = 0, changed_end = 0;
+  /// Triangles removed; dead[1] == kNone for a boundary edge.
+  std::array<std::uint32_t, 2> dead{kNone, kNone};
+};
+
+class CollapseEngine {
+ public:
+  /// Pre: mesh is a valid SurfaceMesh. Throws: InvalidArgument on bad options.
+  CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options, bool record);
+
+  /// Collapse until at most target triangles remain or nothing valid is left.
+  SimplifyStop run(std::size_t target_triangles);
+
+  std::size_t n_triangles_initial() const { return triangles_.size(); }
+  std::size_t n_triangles() const { return alive_triangles_; }
+  std::size_t n_collapses() const { return collapses_; }
+  double max_error() const { return max_error_; }
+
+  /// Dense vertex i is mesh vertex vertex_of()[i] (isolated vertices are left out).
+  const std::vector<Vertex>& vertex_of() const { return vertex_of_; }
+  /// Input positions (model units) and triangles, as they were before any collapse.
+  const std::vector<Point>& original_positions() const { return original_positions_; }
+  const std::vector<std::array<std::uint32_t, 3>>& original_triangles() const {
+    return original_triangles_;
+  }
+  const std::vector<CollapseRecord>& records() const { return records_; }
+  const std::vector<std::uint32_t>& changed() const { return changed_; }
+
+  /// Current state: positions (model units), triangles and which of them are alive, and
+  /// how many live triangles each vertex has (0: removed).
+  const std::vector<Point>& positions() const { return model_; }
+  const std::vector<std::array<std::uint32_t, 3>>& triangles() const { return triangles_; }
+  bool triangle_alive(std::uint32_t t) const { return tri_alive_[t] != 0; }
+  bool vertex_alive(std::uint32_t v) const { return tri_count_[v] != 0; }
+
+  /// The current mesh; out_origin receives the input vertex of each output vertex.
+  SurfaceMesh extract(std::vector<Vertex>* out_origin) const;
+
+ private:
+  struct Candidate {
+    float cost;
+    std::uint32_t a, b, stamps;
+  };
+  struct Placement {
+    double cost;
+    Point p;        // normalised units
+    int source;     // 0 optimum, 1 = a, 2 = b, 3 = midpoint
+  };
+
+  Placement place(std::uint32_t a, std::uint32_t b) const;
+  void sift_down(std::size_t i);
+  void heap_push(const Candidate& c);
+  Candidate heap_pop();
+  void push_edge(std::uint32_t a, std::uint32_t b);
+  void push_vertex_edges(std::uint32_t v);
+  bool has_tri_with(std::uint32_t t, std::uint32_t x) const;
+  int try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
+  void collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
+  void ensure_refs(std::size_t extra);
+  bool face_ok(std::uint32_t t, std::uint32_t moved, const Point& p) const;
+
+  SimplifyOptions options_;
+  bool record_;
+
+  std::vector<Vertex> vertex_of_;
+  std::vector<Point> original_positions_;
+  std::vector<std::array<std::uint32_t, 3>> original_triangles_;
+
+  Point center_ = Point::Zero();
+  double scale_ = 1.0;  // model = center + scale · normalised
+
+  std::vector<Point> pos_;       // normalised
+  std::vector<Point> model_;     // model units
+  std::vector<Quadric> quadric_;
+  std::vector<double> weight_;   // area merged into each vertex (normalised units)
+  std::vector<std::uint32_t> stamp_;
+  std::vector<std::uint32_t> tri_count_;
+  std::vector<std::uint8_t> boundary_, locked_, retry_;
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t mark_token_ = 0;
+
+  std::vector<std::array<std::uint32_t, 3>> triangles_;
+  std::vector<std::uint8_t> tri_alive_;
+  std::size_t alive_triangles_ = 0;
+
+  // Incident triangles of vertex v: refs_[ref_begin_[v] .. ref_begin_[v] + ref_size_[v]),
+  // possibly holding dead triangles (skipped). A collapse appends v's merged list at the end.
+  std::vector<std::uint32_t> refs_;
+  std::vector<std::uint32_t> ref_begin_, ref_size_;
+
+  std::vector<Candidate> heap_;
+  std::vector<std::uint32_t> new_neighbours_;
+  std::size_t collapses_ = 0;
+  double max_error_ = 0;
+  bool error_rejected_ = false;
+
+  std::vector<CollapseRecord> records_;
+  std::vector<std::uint32_t> changed_;
+};
+
+}  // namespace geom::detail

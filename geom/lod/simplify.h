@@ -1,0 +1,72 @@
+#pragma once
+/// \file
+/// Mesh simplification by quadric-error edge collapse.
+///
+/// Ref: Garland, Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH
+/// 1997 (metric, boundary constraint planes); Hoppe, "New Quadric Metric for Simplifying
+/// Meshes with Appearance Attributes", IEEE Visualization 1999; Dey, Edelsbrunner, Guha,
+/// Nekhayev, "Topology Preserving Edge Contraction", 1999 (link condition).
+
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace geom {
+
+/// Why simplification stopped.
+enum class SimplifyStop {
+  kTargetReached,    ///< the face target was met
+  kMaxError,         ///< every remaining collapse would exceed max_error
+  kNoValidCollapse,  ///< every remaining collapse would break a guarantee (topology,
+                     ///< orientation, quality, boundary, locks)
+  kCancelled,        ///< the progress callback returned false
+};
+const char* to_string(SimplifyStop stop);
+
+struct SimplifyOptions {
+  /// Stop at this many triangles (polygons are fan-triangulated first). 0: use ratio.
+  std::size_t target_faces = 0;
+  /// Target as a fraction of the input's triangle count, used when target_faces == 0.
+  double ratio = 0.5;
+  /// Skip collapses whose error (RMS distance to the merged planes, model units) exceeds
+  /// this; infinity: no bound.
+  double max_error = std::numeric_limits<double>::infinity();
+  /// Weight of the constraint planes through boundary edges, relative to the faces' planes:
+  /// large keeps boundaries where they are. 0: boundaries are not constrained.
+  double boundary_weight = 100.0;
+  /// Boundary vertices never move and are never removed.
+  bool lock_boundary = false;
+  /// Vertices that never move and are never removed (a collapse into them is allowed).
+  std::vector<Vertex> locked{};
+  /// Reject collapses that leave a triangle with quality 4√3·area/Σ edge² below this (1 for
+  /// equilateral, 0 for degenerate), unless it was already worse before.
+  double min_triangle_quality = 0.02;
+  /// Called now and then with the fraction done; return false to stop.
+  std::function<bool(double)> progress{};
+};
+
+struct SimplifyResult {
+  SurfaceMesh mesh;
+  std::size_t faces_before = 0;  ///< triangles after fan triangulation of the input
+  std::size_t faces_after = 0;
+  std::size_t collapses = 0;
+  /// The largest error of a performed collapse: RMS distance to the planes merged into the
+  /// new vertex (model units). Measure the true surface distance with mesh_distance().
+  double max_quadric_error = 0;
+  SimplifyStop stop = SimplifyStop::kTargetReached;
+  /// Input vertex each output vertex came from (its surviving representative).
+  std::vector<Vertex> vertex_origin;
+};
+
+/// Simplify a mesh by collapsing edges in order of quadric error until the target is met.
+/// The result keeps the input's topology: it stays manifold (link condition), keeps its
+/// boundary loops, genus and components, no face flips against its previous normal, and
+/// no two boundaries are merged. Isolated vertices are dropped.
+/// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN.
+/// Complexity: O(F log F).
+SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options = {});
+
+}  // namespace geom

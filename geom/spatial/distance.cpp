@@ -1,0 +1,114 @@
+#include <geom/spatial/distance.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace geom {
+
+namespace {
+
+// Samples on the surface: first every vertex used by a face, then `samples` random points
+// spread in proportion to triangle area. Only the area samples enter mean/RMS, so those stay
+// area-weighted; the vertices only sharpen the maximum.
+struct SurfaceSamples {
+  std::vector<Point> points;
+  std::size_t n_vertices = 0;
+};
+
+SurfaceSamples sample_surface(const TriangleBvh& mesh, const DistanceOptions& options) {
+  SurfaceSamples out;
+  const std::size_t nt = mesh.n_triangles();
+  std::vector<double> areas(nt);
+  double total = 0;
+  std::vector<std::uint8_t> used(mesh.positions().size(), 0);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const auto [a, b, c] = mesh.triangle(t);
+    double area = 0.5 * (b - a).cross(c - a).norm();
+    if (!std::isfinite(area)) area = 0;
+    areas[t] = area;
+    total += area;
+    for (std::uint32_t i : mesh.triangle_indices(t)) used[i] = 1;
+  }
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (used[i]) out.points.push_back(mesh.positions()[i]);
+  out.n_vertices = out.points.size();
+  if (!(total > 0) || options.samples == 0) return out;
+  out.points.reserve(out.n_vertices + options.samples + nt);
+  std::mt19937_64 rng(options.seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const double per_area = static_cast<double>(options.samples) / total;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    // Expected count areas·S/total, rounded stochastically so the total stays near S.
+    const double expected = areas[t] * per_area;
+    auto k = static_cast<std::size_t>(expected);
+    if (uni(rng) < expected - static_cast<double>(k)) ++k;
+    const auto [a, b, c] = mesh.triangle(t);
+    for (std::size_t i = 0; i < k; ++i) {
+      const double r1 = std::sqrt(uni(rng)), r2 = uni(rng);
+      out.points.push_back((1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+OneSidedDistance one_sided_distance(const TriangleBvh& from, const TriangleBvh& to,
+                                    const DistanceOptions& options) {
+  OneSidedDistance out;
+  if (from.empty()) return out;
+  if (to.empty()) throw InvalidArgument("distance to an empty surface: the target has no faces");
+  const SurfaceSamples s = sample_surface(from, options);
+  std::vector<double> d2(s.points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.points.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i)
+                        d2[i] = to.distance_squared(s.points[i]);
+                    });
+  double max2 = 0, sum = 0, sum2 = 0;
+  for (std::size_t i = 0; i < d2.size(); ++i) {
+    max2 = std::max(max2, d2[i]);
+    if (i >= s.n_vertices) {
+      sum += std::sqrt(d2[i]);
+      sum2 += d2[i];
+    }
+  }
+  const std::size_t n_area = d2.size() - s.n_vertices;
+  out.max = std::sqrt(max2);
+  out.samples = d2.size();
+  if (n_area > 0) {
+    out.mean = sum / static_cast<double>(n_area);
+    out.rms = std::sqrt(sum2 / static_cast<double>(n_area));
+  }
+  return out;
+}
+
+MeshDistance mesh_distance(const TriangleBvh& a, const TriangleBvh& b,
+                           const DistanceOptions& options) {
+  if (a.empty() != b.empty())
+    throw InvalidArgument(std::string("mesh distance: surface ") + (a.empty() ? "A" : "B") +
+                          " has no triangles while the other has some");
+  MeshDistance out;
+  if (a.empty()) return out;
+  out.a_to_b = one_sided_distance(a, b, options);
+  out.b_to_a = one_sided_distance(b, a, options);
+  out.hausdorff = std::max(out.a_to_b.max, out.b_to_a.max);
+  out.rms = std::sqrt(0.5 * (out.a_to_b.rms * out.a_to_b.rms + out.b_to_a.rms * out.b_to_a.rms));
+  Eigen::AlignedBox3d box = a.bounds();
+  box.extend(b.bounds());
+  out.diagonal = box.diagonal().norm();
+  return out;
+}
+
+MeshDistance mesh_distance(const SurfaceMesh& a, const SurfaceMesh& b,
+                           const DistanceOptions& options) {
+  if ((a.n_faces() == 0) != (b.n_faces() == 0))
+    throw InvalidArgument(std::string("mesh distance: mesh ") + (a.n_faces() == 0 ? "A" : "B") +
+                          " has no faces while the other has some");
+  return mesh_distance(TriangleBvh(a), TriangleBvh(b), options);
+}
+
+}  // namespace geom

@@ -1,0 +1,209 @@
+#include <geom/lod/quadric.h>
+#include <geom/lod/simplify.h>
+#include <geom/spatial/distance.h>
+
+#include "lod/lod_checks.h"
+#include "spatial/procedural.h"
+
+#include <gtest/gtest.h>
+
+namespace geom {
+namespace {
+
+TEST(Quadric, MinimizerOfThreePlanesIsTheirIntersection) {
+  Quadric q = Quadric::plane_through(Point(1, 0, 0), Eigen::Vector3d(1, 0, 0));
+  q += Quadric::plane_through(Point(0, 2, 0), Eigen::Vector3d(0, 1, 0));
+  q += Quadric::plane_through(Point(0, 0, 3), Eigen::Vector3d(0, 0, 1));
+  EXPECT_TRUE(q.minimizer(Point(9, 9, 9)).isApprox(Point(1, 2, 3)));
+  EXPECT_NEAR(q.evaluate(Point(1, 2, 3)), 0.0, 1e-12);
+  EXPECT_NEAR(q.evaluate(Point(2, 2, 3)), 1.0, 1e-12);
+}
+
+TEST(Quadric, SingularQuadricsStayNearTheReference) {
+  // One plane (rank 1): the minimiser is the reference projected onto the plane.
+  const Quadric plane = Quadric::plane_through(Point(0, 0, 1), Eigen::Vector3d(0, 0, 1));
+  EXPECT_TRUE(plane.minimizer(Point(5, -3, 7)).isApprox(Point(5, -3, 1)));
+  // Two planes (rank 2): projected onto their line.
+  Quadric line = plane + Quadric::plane_through(Point(0, 2, 0), Eigen::Vector3d(0, 1, 0));
+  EXPECT_TRUE(line.minimizer(Point(5, -3, 7)).isApprox(Point(5, 2, 1)));
+  // Zero quadric: the reference itself.
+  EXPECT_EQ(Quadric().minimizer(Point(1, 2, 3)), Point(1, 2, 3));
+  // Nearly parallel planes: finite and near the reference.
+  Quadric near = Quadric::plane_through(Point(0, 0, 0), Eigen::Vector3d(0, 0, 1));
+  near += Quadric::plane_through(Point(0, 0, 0), Eigen::Vector3d(1e-12, 0, 1).normalized());
+  const Point p = near.minimizer(Point(1, 1, 0));
+  EXPECT_TRUE(p.allFinite());
+  EXPECT_LT((p - Point(1, 1, 0)).norm(), 1e-6);
+}
+
+TEST(Simplify, TorusKeepsTopologyAndReachesTarget) {
+  const SurfaceMesh m = test::torus(80, 40, 1.0, 0.35, 0.05);
+  const SimplifyResult r = simplify(m, {.target_faces = 640});
+  EXPECT_EQ(r.stop, SimplifyStop::kTargetReached);
+  EXPECT_EQ(r.faces_before, 6400u);
+  EXPECT_LE(r.faces_after, 640u);
+  EXPECT_GE(r.faces_after, 638u);
+  EXPECT_EQ(r.mesh.n_faces(), r.faces_after);
+  EXPECT_EQ(r.vertex_origin.size(), r.mesh.n_vertices());
+  test::expect_same_topology(m, r.mesh);
+  EXPECT_EQ(test::orientation_disagreements(m, r.mesh), 0u);
+  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 50000});
+  EXPECT_LT(d.relative_hausdorff(), 0.02);
+  EXPECT_GT(r.max_quadric_error, 0.0);
+  EXPECT_GE(test::min_triangle_quality(r.mesh), 0.02);
+}
+
+TEST(Simplify, RatioSelectsTheTarget) {
+  const SurfaceMesh m = test::torus(40, 20);
+  const SimplifyResult r = simplify(m, {.ratio = 0.25});
+  EXPECT_EQ(r.faces_after, 400u);
+  test::expect_same_topology(m, r.mesh);
+}
+
+TEST(Simplify, FlatGridKeepsItsOutlineAndPlane) {
+  const SurfaceMesh m = test::grid(20);
+  const SimplifyResult r = simplify(m, {.target_faces = 2});
+  test::expect_same_topology(m, r.mesh);
+  // A square needs two triangles; the four corners survive exactly.
+  EXPECT_EQ(r.faces_after, 2u);
+  for (Vertex v : r.mesh.vertices()) {
+    const Point& p = r.mesh.position(v);
+    EXPECT_LT(std::abs(p.z()), 1e-12);
+    EXPECT_TRUE((p.x() == 0 || p.x() == 20) && (p.y() == 0 || p.y() == 20)) << p.transpose();
+  }
+}
+
+TEST(Simplify, CoplanarCubeCollapsesToItsCorners) {
+  const SurfaceMesh m = test::subdivided_cube(8);
+  const SimplifyResult r = simplify(m, {.target_faces = 12});
+  test::expect_same_topology(m, r.mesh);
+  EXPECT_EQ(r.faces_after, 12u);
+  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 20000});
+  EXPECT_LT(d.relative_hausdorff(), 1e-9);
+  EXPECT_EQ(test::orientation_disagreements(m, r.mesh), 0u);
+}
+
+TEST(Simplify, TinyAndHugeCoordinatesBehaveLikeUnitScale) {
+  const SurfaceMesh unit = test::torus(40, 20, 1.0, 0.35, 0.1);
+  const SimplifyResult ru = simplify(unit, {.target_faces = 300});
+  const double eu = mesh_distance(unit, ru.mesh, {.samples = 20000}).relative_hausdorff();
+  for (double scale : {1e-9, 1e9}) {
+    SurfaceMesh m = unit;
+    test::transform(m, scale, Point(3 * scale, -scale, 0));
+    const SimplifyResult r = simplify(m, {.target_faces = 300});
+    test::expect_same_topology(m, r.mesh);
+    EXPECT_EQ(r.faces_after, ru.faces_after);
+    EXPECT_EQ(test::orientation_disagreements(m, r.mesh), 0u);
+    const double e = mesh_distance(m, r.mesh, {.samples = 20000}).relative_hausdorff();
+    EXPECT_LT(e, 1.5 * eu + 1e-6) << "scale " << scale;
+  }
+}
+
+TEST(Simplify, ManyBoundariesStay) {
+  // A wavy grid with a 4 × 4 lattice of single-cell holes: 17 boundary loops.
+  const SurfaceMesh m = test::grid(
+      24, [](int i, int j) { return i % 6 == 3 && j % 6 == 3; }, 0.5);
+  ASSERT_EQ(analyze(m).boundary_loops, 17u);
+  const SimplifyResult r = simplify(m, {.ratio = 0.2});
+  test::expect_same_topology(m, r.mesh);
+  EXPECT_EQ(test::orientation_disagreements(m, r.mesh), 0u);
+  // Pushing to zero stops cleanly with every hole still open.
+  const SimplifyResult r0 = simplify(m, {.target_faces = 1});
+  EXPECT_EQ(r0.stop, SimplifyStop::kNoValidCollapse);
+  test::expect_same_topology(m, r0.mesh);
+}
+
+TEST(Simplify, TwoTouchingComponentsStayApart) {
+  // Two spheres touching at a point (coincident but distinct vertices) and a torus
+  // threaded close by.
+  SurfaceMesh m = test::sphere(12, 16);
+  test::append(m, test::sphere(12, 16), Point(0, 0, 2));
+  test::append(m, test::torus(24, 12, 1.0, 0.2), Point(0.5, 0, 1));
+  const SimplifyResult r = simplify(m, {.ratio = 0.05});
+  test::expect_same_topology(m, r.mesh);
+  EXPECT_EQ(analyze(r.mesh).components, 3u);
+}
+
+TEST(Simplify, LockedVerticesNeverMove) {
+  const SurfaceMesh m = test::torus(30, 16, 1.0, 0.3, 0.1);
+  std::vector<Vertex> locked;
+  for (Vertex v : m.vertices())
+    if (v.idx() % 7 == 0) locked.push_back(v);
+  const SimplifyResult r = simplify(m, {.ratio = 0.1, .locked = locked});
+  test::expect_same_topology(m, r.mesh);
+  std::size_t found = 0;
+  for (Vertex v : r.mesh.vertices()) {
+    const Vertex o = r.vertex_origin[v.idx()];
+    if (o.idx() % 7 == 0) {
+      ++found;
+      EXPECT_EQ(r.mesh.position(v), m.position(o));
+    }
+  }
+  EXPECT_EQ(found, locked.size());
+}
+
+TEST(Simplify, LockedBoundaryKeepsEveryBoundaryVertex) {
+  const SurfaceMesh m = test::grid(16, [](int, int) { return false; }, 2.0);
+  const SimplifyResult r = simplify(m, {.ratio = 0.05, .lock_boundary = true});
+  test::expect_same_topology(m, r.mesh);
+  std::size_t boundary = 0;
+  for (Vertex v : r.mesh.vertices())
+    if (r.mesh.is_boundary(v)) {
+      ++boundary;
+      EXPECT_EQ(r.mesh.position(v), m.position(r.vertex_origin[v.idx()]));
+    }
+  EXPECT_EQ(boundary, 64u);
+}
+
+TEST(Simplify, StopsAtMaxErrorAndSaysWhy) {
+  const SurfaceMesh m = test::torus(40, 20, 1.0, 0.35, 0.1);
+  const SimplifyResult r = simplify(m, {.target_faces = 4, .max_error = 1e-3});
+  EXPECT_EQ(r.stop, SimplifyStop::kMaxError);
+  EXPECT_LE(r.max_quadric_error, 1e-3);
+  EXPECT_GT(r.faces_after, 4u);
+  test::expect_same_topology(m, r.mesh);
+  EXPECT_STRNE(to_string(r.stop), "");
+}
+
+TEST(Simplify, ClosedSurfaceStopsAtATetrahedronWhenNothingValidRemains) {
+  const SurfaceMesh m = test::sphere(8, 10);
+  const SimplifyResult r = simplify(m, {.target_faces = 1});
+  EXPECT_EQ(r.stop, SimplifyStop::kNoValidCollapse);
+  EXPECT_GE(r.faces_after, 4u);
+  test::expect_same_topology(m, r.mesh);
+}
+
+TEST(Simplify, PolygonsAreTriangulated) {
+  SurfaceMesh m;
+  std::vector<Vertex> v;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) v.push_back(m.add_vertex(Point(i, j, 0.1 * i * j)));
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i) m.add_quad(v[j * 6 + i], v[j * 6 + i + 1], v[j * 6 + i + 7], v[j * 6 + i + 6]);
+  const SimplifyResult r = simplify(m, {.ratio = 1.0});
+  EXPECT_EQ(r.faces_before, 50u);
+  EXPECT_EQ(r.collapses, 0u);
+  EXPECT_TRUE(r.mesh.is_triangle_mesh());
+}
+
+TEST(Simplify, EmptyMeshAndCancel) {
+  const SimplifyResult r = simplify(SurfaceMesh());
+  EXPECT_EQ(r.faces_after, 0u);
+  EXPECT_TRUE(r.mesh.is_empty());
+  const SurfaceMesh m = test::torus(100, 50);
+  const SimplifyResult c = simplify(m, {.ratio = 0.01, .progress = [](double) { return false; }});
+  EXPECT_EQ(c.stop, SimplifyStop::kCancelled);
+  test::expect_same_topology(m, c.mesh);
+}
+
+TEST(Simplify, RejectsBadOptions) {
+  const SurfaceMesh m = test::grid(2);
+  EXPECT_THROW(simplify(m, {.ratio = 1.5}), InvalidArgument);
+  EXPECT_THROW(simplify(m, {.ratio = -0.1}), InvalidArgument);
+  EXPECT_THROW(simplify(m, {.max_error = -1.0}), InvalidArgument);
+  EXPECT_THROW(simplify(m, {.max_error = std::nan("")}), InvalidArgument);
+  EXPECT_THROW(simplify(m, {.boundary_weight = -1.0}), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace geom
