@@ -3,6 +3,25 @@
 /// Mesh files in and out: one reader/writer pair per format (obj.cpp, ply.cpp, off.cpp,
 /// stl.cpp, drc.cpp), dispatched here by file name or by sniffing content. Readers produce a
 /// PolygonSoup and never repair; load_mesh() builds a mesh from it and reports repairs.
+///
+/// What each format carries (details at the top of each .cpp):
+/// - OBJ: v (with optional "r g b" colours), vt, vn, polygon faces in all four corner forms,
+///   negative indices, `\` continuations; g/o/s/usemtl/mtllib and unknown keywords skipped.
+///   vt/vn become corner_texcoords/corner_normals; when every corner has one and each
+///   vertex's corners agree, vertex_texcoords/vertex_normals are filled too. OpenSubdiv tags
+///   `t crease`, `t corner`, `t interpolateboundary` are read and written.
+/// - PLY: ascii and binary in both byte orders, every scalar type; normals, colours,
+///   texture coordinates and other scalar properties; unknown elements skipped. Written
+///   binary little-endian (or ascii) with float values where every value is exactly a float
+///   and double otherwise, so positions come back bit for bit.
+/// - OFF: [ST][C][N]OFF, ascii and "OFF BINARY" (big-endian per the spec, little-endian as
+///   pmp writes it: the byte order that accounts for the file exactly wins).
+/// - STL: ascii and binary (binary recognised by its size); corners with equal coordinates
+///   are welded into one vertex; written as float32 binary or exact ascii, polygons fanned.
+/// - DRC: through the Draco library; positions are float32, exact unless
+///   WriteOptions::drc_position_bits > 0.
+/// Text output uses the shortest decimal that reads back as the same double, so text round
+/// trips are bit-exact too. Errors name the file and the line (text) or byte offset.
 
 #include <geom/core/build.h>
 #include <geom/core/soup.h>
@@ -43,9 +62,11 @@ struct WriteOptions {
   bool attributes = true;
 };
 
-/// Read a file ("-" is stdin; then options.format is required) into a soup.
-/// Throws: ParseError naming the file and line or byte offset; std::system_error style
-/// geom::Error when the file cannot be opened.
+/// Read a file ("-" is stdin; then options.format is required) into a soup. The format is
+/// options.format, else the extension, else sniffed from the content.
+/// Throws: ParseError naming the file and line or byte offset; geom::Error when the file
+/// cannot be opened or read; InvalidArgument when the format cannot be determined.
+/// Complexity: O(file size); the file is mapped, not copied.
 PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& options = {});
 /// Read from bytes in memory; `name` is used in error messages.
 PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format,

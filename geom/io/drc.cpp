@@ -1,0 +1,173 @@
+// Draco (.drc) through the Draco library. Reading keeps Draco's position values as the
+// vertices (so attribute seams do not split the topology) and turns normals and texture
+// coordinates into per-corner values, plus per-vertex ones when every vertex's corners
+// agree. Writing stores float32 positions (bit-exact for float input when
+// drc_position_bits = 0, quantised otherwise), fans polygons into triangles, and carries
+// vertex normals and texture coordinates.
+
+#include <geom/io/formats.h>
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/core/decoder_buffer.h>
+#include <draco/core/encoder_buffer.h>
+#include <draco/mesh/mesh.h>
+#include <draco/point_cloud/point_cloud.h>
+
+#include <cmath>
+#include <limits>
+
+namespace geom::io_detail {
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) {
+  throw ParseError(name, ParseError::Unit::kByte, 0, what);
+}
+
+template <class T>
+void corner_attribute(const draco::PointAttribute* att, const std::vector<draco::PointIndex>& corner_points,
+                      const std::vector<std::uint32_t>& corner_vertex, std::size_t nv, std::vector<T>& corners,
+                      std::vector<T>& per_vertex) {
+  constexpr int kDims = T::SizeAtCompileTime;
+  if (!att || att->num_components() < kDims) return;
+  corners.resize(corner_points.size());
+  std::vector<std::int64_t> value_of(nv, -1);
+  bool consistent = true;
+  for (std::size_t c = 0; c < corner_points.size(); ++c) {
+    const draco::AttributeValueIndex vi = att->mapped_index(corner_points[c]);
+    double x[4] = {};
+    att->ConvertValue<double>(vi, static_cast<std::int8_t>(kDims), x);
+    for (int k = 0; k < kDims; ++k) corners[c][k] = x[k];
+    std::int64_t& seen = value_of[corner_vertex[c]];
+    if (seen < 0) seen = vi.value();
+    else if (seen != vi.value()) consistent = false;
+  }
+  if (!consistent) return;
+  per_vertex.assign(nv, T::Zero());
+  for (std::size_t c = 0; c < corner_points.size(); ++c) per_vertex[corner_vertex[c]] = corners[c];
+}
+
+}  // namespace
+
+PolygonSoup read_drc(std::span<const std::byte> data, const std::string& name) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(data.data()), data.size());
+  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
+  if (!type.ok()) fail(name, "not a Draco file: " + type.status().error_msg_string());
+  draco::Decoder decoder;
+  std::unique_ptr<draco::PointCloud> cloud;
+  const draco::Mesh* mesh = nullptr;
+  if (type.value() == draco::TRIANGULAR_MESH) {
+    auto r = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!r.ok()) fail(name, "Draco mesh decoding failed: " + r.status().error_msg_string());
+    std::unique_ptr<draco::Mesh> m = std::move(r).value();
+    mesh = m.get();
+    cloud = std::move(m);
+  } else if (type.value() == draco::POINT_CLOUD) {
+    auto r = decoder.DecodePointCloudFromBuffer(&buffer);
+    if (!r.ok()) fail(name, "Draco point cloud decoding failed: " + r.status().error_msg_string());
+    cloud = std::move(r).value();
+  } else {
+    fail(name, "unsupported Draco geometry type");
+  }
+  const draco::PointAttribute* pos = cloud->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+  if (!pos || pos->num_components() < 3) fail(name, "Draco file has no 3D position attribute");
+  PolygonSoup soup;
+  const std::size_t nv = pos->size();
+  soup.positions.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    double x[3];
+    pos->ConvertValue<double>(draco::AttributeValueIndex(static_cast<std::uint32_t>(v)), 3, x);
+    soup.positions[v] = Point(x[0], x[1], x[2]);
+    if (!soup.positions[v].allFinite()) fail(name, "vertex " + std::to_string(v) + " is NaN or infinite");
+  }
+  std::vector<draco::PointIndex> corner_points;
+  if (mesh) {
+    const std::size_t nf = mesh->num_faces();
+    corner_points.reserve(3 * nf);
+    soup.face_offsets.reserve(nf + 1);
+    soup.face_indices.reserve(3 * nf);
+    soup.face_offsets.push_back(0);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const draco::Mesh::Face& face = mesh->face(draco::FaceIndex(f));
+      for (int k = 0; k < 3; ++k) {
+        if (face[k].value() >= cloud->num_points()) fail(name, "face " + std::to_string(f) + " names a missing point");
+        const std::uint32_t v = pos->mapped_index(face[k]).value();
+        if (v >= nv) fail(name, "face " + std::to_string(f) + " names a missing position");
+        soup.face_indices.push_back(v);
+        corner_points.push_back(face[k]);
+      }
+      soup.face_offsets.push_back(static_cast<std::uint32_t>(soup.face_indices.size()));
+    }
+    if (nf == 0) soup.face_offsets.clear();
+  }
+  corner_attribute(cloud->GetNamedAttribute(draco::GeometryAttribute::NORMAL), corner_points, soup.face_indices, nv,
+                   soup.corner_normals, soup.vertex_normals);
+  corner_attribute(cloud->GetNamedAttribute(draco::GeometryAttribute::TEX_COORD), corner_points, soup.face_indices,
+                   nv, soup.corner_texcoords, soup.vertex_texcoords);
+  if (!mesh) {
+    // A point cloud: attributes are per point; with identity mapping they are per vertex.
+    for (auto [type_id, dims] : {std::pair{draco::GeometryAttribute::NORMAL, 3}, {draco::GeometryAttribute::TEX_COORD, 2}}) {
+      const draco::PointAttribute* att = cloud->GetNamedAttribute(type_id);
+      if (!att || att->num_components() < dims || cloud->num_points() != nv) continue;
+      for (std::uint32_t p = 0; p < nv; ++p) {
+        double x[3] = {};
+        att->ConvertValue<double>(att->mapped_index(draco::PointIndex(p)), static_cast<std::int8_t>(dims), x);
+        if (dims == 3) soup.vertex_normals.emplace_back(x[0], x[1], x[2]);
+        else soup.vertex_texcoords.emplace_back(x[0], x[1]);
+      }
+    }
+  }
+  return soup;
+}
+
+void write_drc(const PolygonSoup& soup, const WriteOptions& options, std::string& out) {
+  if (options.drc_position_bits < 0 || options.drc_position_bits > 30)
+    throw InvalidArgument("drc_position_bits must be 0 (lossless) to 30, got " +
+                          std::to_string(options.drc_position_bits));
+  if (options.drc_level < 0 || options.drc_level > 10)
+    throw InvalidArgument("drc_level must be 0 to 10, got " + std::to_string(options.drc_level));
+  const std::size_t nv = soup.positions.size();
+  if (nv > std::numeric_limits<std::uint32_t>::max() / 2) throw InvalidArgument("too many vertices for Draco");
+  draco::Mesh mesh;
+  mesh.set_num_points(static_cast<std::uint32_t>(nv));
+  auto add = [&](draco::GeometryAttribute::Type type, int dims, auto value_of) {
+    draco::GeometryAttribute ga;
+    ga.Init(type, nullptr, static_cast<std::uint8_t>(dims), draco::DT_FLOAT32, false, sizeof(float) * dims, 0);
+    const int id = mesh.AddAttribute(ga, true, static_cast<std::uint32_t>(nv));
+    draco::PointAttribute* att = mesh.attribute(id);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      float x[3];
+      for (int k = 0; k < dims; ++k) x[k] = static_cast<float>(value_of(v, k));
+      att->SetAttributeValue(draco::AttributeValueIndex(v), x);
+    }
+  };
+  add(draco::GeometryAttribute::POSITION, 3, [&](std::uint32_t v, int k) { return soup.positions[v][k]; });
+  if (options.attributes && !soup.vertex_normals.empty())
+    add(draco::GeometryAttribute::NORMAL, 3, [&](std::uint32_t v, int k) { return soup.vertex_normals[v][k]; });
+  if (options.attributes && !soup.vertex_texcoords.empty())
+    add(draco::GeometryAttribute::TEX_COORD, 2, [&](std::uint32_t v, int k) { return soup.vertex_texcoords[v][k]; });
+  for (std::size_t f = 0; f < soup.n_faces(); ++f) {
+    const auto face = soup.face(f);
+    for (std::size_t k = 2; k < face.size(); ++k)
+      mesh.AddFace({draco::PointIndex(face[0]), draco::PointIndex(face[k - 1]), draco::PointIndex(face[k])});
+  }
+  draco::Encoder encoder;
+  const int speed = 10 - options.drc_level;
+  encoder.SetSpeedOptions(speed, speed);
+  if (options.drc_position_bits > 0) {
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, options.drc_position_bits);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, 10);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, 12);
+  } else {
+    // Without quantisation only the sequential coder keeps float values exact.
+    encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+  }
+  draco::EncoderBuffer buffer;
+  const draco::Status status = mesh.num_faces() > 0 ? encoder.EncodeMeshToBuffer(mesh, &buffer)
+                                                    : encoder.EncodePointCloudToBuffer(mesh, &buffer);
+  if (!status.ok()) throw Error("Draco encoding failed: " + status.error_msg_string());
+  out.assign(buffer.data(), buffer.size());
+}
+
+}  // namespace geom::io_detail

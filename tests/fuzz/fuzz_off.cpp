@@ -1,0 +1,12 @@
+// libFuzzer target for the OFF reader (and, for accepted input, the OFF writer).
+
+#include "fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace geom;
+  const FileFormat format = FileFormat::kOff;
+  const std::optional<PolygonSoup> soup = fuzz::read(data, size, format);
+  if (!soup) return 0;
+  fuzz::round_trip(*soup, format, false, true);
+  return 0;
+}
