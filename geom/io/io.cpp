@@ -1,4 +1,5 @@
 #include <geom/io/formats.h>
+#include <geom/io/gltf.h>
 #include <geom/io/io.h>
 
 #include <algorithm>
@@ -29,6 +30,8 @@ std::optional<FileFormat> format_from_extension(const std::filesystem::path& pat
   if (ext == ".off") return FileFormat::kOff;
   if (ext == ".stl") return FileFormat::kStl;
   if (ext == ".drc") return FileFormat::kDrc;
+  if (ext == ".gltf") return FileFormat::kGltf;
+  if (ext == ".glb") return FileFormat::kGlb;
   return std::nullopt;
 }
 
@@ -55,6 +58,8 @@ std::string dispatch_write(const PolygonSoup& soup, FileFormat format, const Wri
     case FileFormat::kOff: io_detail::write_off(soup, options, out); break;
     case FileFormat::kStl: io_detail::write_stl(soup, options, out); break;
     case FileFormat::kDrc: io_detail::write_drc(soup, options, out); break;
+    case FileFormat::kGltf: out = write_gltf(gltf_from_soup(soup), false); break;
+    case FileFormat::kGlb: out = write_gltf(gltf_from_soup(soup), true); break;
   }
   return out;
 }
@@ -159,6 +164,8 @@ const char* format_name(FileFormat format) {
     case FileFormat::kOff: return "off";
     case FileFormat::kStl: return "stl";
     case FileFormat::kDrc: return "drc";
+    case FileFormat::kGltf: return "gltf";
+    case FileFormat::kGlb: return "glb";
   }
   return "unknown";
 }
@@ -167,12 +174,13 @@ FileFormat format_from_path(const std::filesystem::path& path) {
   if (auto f = format_from_extension(path)) return *f;
   const std::string ext = path.extension().string();
   throw InvalidArgument("unknown mesh file extension '" + ext + "' in '" + path.string() +
-                        "' (expected .obj, .ply, .off, .stl or .drc)");
+                        "' (expected .obj, .ply, .off, .stl, .drc, .gltf or .glb)");
 }
 
 std::optional<FileFormat> sniff_format(std::span<const std::byte> head) {
   if (starts_with(head, "ply\n") || starts_with(head, "ply\r\n")) return FileFormat::kPly;
   if (starts_with(head, "DRACO")) return FileFormat::kDrc;
+  if (starts_with(head, "glTF")) return FileFormat::kGlb;
   // Binary STL: 80-byte header and a triangle count that matches the size exactly (only
   // decisive when `head` is the whole file, which is how read_soup calls it).
   if (head.size() >= 84) {
@@ -185,6 +193,7 @@ std::optional<FileFormat> sniff_format(std::span<const std::byte> head) {
   while (i < head.size() && std::isspace(static_cast<unsigned char>(c[i]))) ++i;
   std::string_view rest(c + i, head.size() - i);
   if (rest.starts_with("solid")) return FileFormat::kStl;
+  if (rest.starts_with("{") && rest.find("\"asset\"") != std::string_view::npos) return FileFormat::kGltf;
   {
     std::size_t k = 0;
     if (rest.starts_with("ST")) k = 2;
@@ -215,6 +224,8 @@ PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format, const 
     case FileFormat::kOff: return io_detail::read_off(data, name);
     case FileFormat::kStl: return io_detail::read_stl(data, name);
     case FileFormat::kDrc: return io_detail::read_drc(data, name);
+    case FileFormat::kGltf:
+    case FileFormat::kGlb: return flatten(read_gltf(data, name));
   }
   throw InvalidArgument("unknown file format");
 }
@@ -229,7 +240,10 @@ PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& opti
   if (!format) format = sniff_format(data);
   if (!format)
     throw InvalidArgument("cannot tell the format of '" + path.string() +
-                          "' from its extension or content (expected OBJ, PLY, OFF, STL or DRC)");
+                          "' from its extension or content (expected OBJ, PLY, OFF, STL, DRC or glTF)");
+  // glTF may keep its buffers in files beside it.
+  if (*format == FileFormat::kGltf || *format == FileFormat::kGlb)
+    return flatten(read_gltf(data, io_detail::display_name(path), path == "-" ? std::filesystem::path() : path.parent_path()));
   return read_soup(data, *format, io_detail::display_name(path));
 }
 

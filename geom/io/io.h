@@ -36,7 +36,7 @@
 
 namespace geom {
 
-enum class FileFormat { kObj, kPly, kOff, kStl, kDrc };
+enum class FileFormat { kObj, kPly, kOff, kStl, kDrc, kGltf, kGlb };
 
 /// "obj", "ply", … as used in messages and --format options.
 const char* format_name(FileFormat format);

@@ -32,7 +32,10 @@ std::size_t draw_wireframe(const FlatScene& flat, const Projector& proj, int thi
     ++sampled;
   }
   const double mean_px = sampled ? sum / sampled : 10.0;
-  const float alpha = static_cast<float>(std::clamp(mean_px / 10.0, 0.2, 0.8));
+  // Ink per pixel grows with edge density as 1/length²; below ~3 px per edge the lines
+  // would only darken the surface, so they are left out.
+  const float alpha = static_cast<float>(std::min(0.8, (mean_px / 12.0) * (mean_px / 12.0)));
+  if (alpha < 0.05f) return 0;
   std::size_t drawn = 0;
   for (const auto& e : flat.edges) {
     Eigen::Vector4d a = proj.clip(e[0]), b = proj.clip(e[1]);

@@ -32,7 +32,7 @@ class Tracer {
   Tracer(const Scene& scene, const FlatScene& flat, const TriangleBvh& bvh, Counters& counters)
       : scene_(scene), flat_(flat), bvh_(bvh), counters_(counters) {
     double diag = flat.bounds.isEmpty() ? 1.0 : flat.bounds.diagonal().norm();
-    offset_ = 1e-7 * diag + 1e-300;
+    offset_ = 1e-6 * diag + 1e-300;
   }
 
   /// Radiance along a ray; `inv_depth_along` receives 1/(view depth) of the first hit when
@@ -46,24 +46,47 @@ class Tracer {
     const Eigen::Vector3d to_eye = -dir.normalized();
     // Shade the side the ray arrived on.
     Normal n = sp.normal.dot(to_eye) < 0 ? Normal(-sp.normal) : sp.normal;
-    Normal ng = sp.geometric.dot(to_eye) < 0 ? Normal(-sp.geometric) : sp.geometric;
+    const bool back = sp.geometric.dot(to_eye) < 0;
+    Normal ng = back ? Normal(-sp.geometric) : sp.geometric;
     const Point lifted = sp.position + ng * offset_;
+    const Point shadow_from = terminator_safe(hit->triangle, b, sp.position, back) + ng * offset_;
     const Material& m = flat_.materials[flat_.tri_material[hit->triangle]];
     Color c = blinn_phong(scene_, m, sp.position, n, to_eye,
                           [&](std::size_t, const Eigen::Vector3d& L, double dist) {
                             counters_.shadow.fetch_add(1, std::memory_order_relaxed);
-                            return !bvh_.any_hit(lifted, L, 0.0, dist - 2 * offset_);
+                            return !bvh_.any_hit(shadow_from, L, 0.0, dist - 2 * offset_);
                           });
     if (m.reflectance > 0 && depth < scene_.max_reflection_depth) {
       counters_.reflection.fetch_add(1, std::memory_order_relaxed);
       Eigen::Vector3d d = dir.normalized();
       Eigen::Vector3d r = d - 2 * d.dot(n) * n;
+      // The smooth normal can tilt the mirror direction below the triangle itself; reflect
+      // about the true face then, or the ray would hit its own surface from behind.
+      if (r.dot(ng) <= 0) r = d - 2 * d.dot(ng) * ng;
       c = (1 - m.reflectance) * c + m.reflectance * trace(lifted, r, depth + 1, nullptr);
     }
     return c;
   }
 
  private:
+  // Shadow rays from a flat facet of a smooth-shaded mesh are blocked by the neighbouring
+  // facets near the terminator, where the smooth normal still faces the light: blocky
+  // self-shadows. Starting them from the point lifted onto the corners' tangent planes (the
+  // curved surface the normals describe) removes that. Ref: Hanika, "Hacking the Shadow
+  // Terminator", Ray Tracing Gems II, 2021.
+  Point terminator_safe(std::uint32_t t, const Eigen::Vector3d& b, const Point& p, bool back) const {
+    if (!flat_.smooth) return p;
+    const auto& v = flat_.tris[t];
+    const auto& n = flat_.tri_normals[t];
+    Point out = p;
+    for (int i = 0; i < 3; ++i) {
+      Normal ni = back ? Normal(-flat_.normals[n[i]]) : flat_.normals[n[i]];
+      double below = std::min(0.0, (p - flat_.positions[v[i]]).dot(ni));
+      out -= b[i] * below * ni;
+    }
+    return out;
+  }
+
   const Scene& scene_;
   const FlatScene& flat_;
   const TriangleBvh& bvh_;

@@ -60,7 +60,7 @@ struct Scene {
   int samples = 4;          ///< per pixel (the rasteriser rounds up to a square)
   bool wireframe = false;
   Shading shading = Shading::kSmooth;
-  double crease_angle_degrees = 40;  ///< smooth shading keeps edges sharper than this
+  double crease_angle_degrees = 60;  ///< smooth shading keeps edges sharper than this
   int max_reflection_depth = 3;
   bool ground = false;  ///< a floor under the scene's bounding box (to catch shadows)
 };

@@ -1,0 +1,95 @@
+// `geom compress IN OUT.gmc` and `geom decompress IN.gmc OUT`: the mesh codec (geom/compress).
+
+#include "commands.h"
+#include "common.h"
+
+#include <geom/compress/container/codec.h>
+
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+namespace geom::cli {
+
+namespace {
+
+std::vector<std::uint8_t> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open " + path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw Error("cannot write " + path);
+}
+
+}  // namespace
+
+void add_compress_command(CLI::App& app) {
+  struct Args {
+    std::string input, output;
+    CompressOptions options;
+    CommonOptions common;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = add_command(app, "compress", "Compress a mesh to a .gmc stream", [args] {
+    check_not_input(args->output, {args->input}, args->common);
+    Loaded loaded = load_input(args->input, args->common);
+    const CompressResult r = compress(loaded.mesh, args->options);
+    write_bytes(args->output, r.bytes);
+    const double nv = std::max<double>(1.0, static_cast<double>(loaded.mesh.n_vertices()));
+    nlohmann::json j = {{"bytes", r.bytes.size()},
+                        {"vertices", loaded.mesh.n_vertices()},
+                        {"faces", loaded.mesh.n_faces()},
+                        {"bits_per_vertex", 8.0 * r.bytes.size() / nv},
+                        {"connectivity_bits_per_vertex", 8.0 * r.stats.connectivity_bytes / nv},
+                        {"geometry_bits_per_vertex", 8.0 * r.stats.geometry_bytes / nv},
+                        {"order_bits_per_vertex", 8.0 * r.stats.order_bytes / nv},
+                        {"quantisation_bits", r.stats.bits},
+                        {"max_error", r.stats.max_error}};
+    report(args->common, j,
+           "wrote " + std::to_string(r.bytes.size()) + " bytes (" +
+               std::to_string(8.0 * r.bytes.size() / nv) + " bits/vertex, max error " +
+               std::to_string(r.stats.max_error) + ")");
+    return 0;
+  });
+  cmd->add_option("input", args->input, "Mesh file (- for stdin)")->required();
+  cmd->add_option("output", args->output, "Compressed output (.gmc)")->required();
+  auto* bits = cmd->add_option("--bits", args->options.bits, "Bits per coordinate (1-30)")
+                   ->check(CLI::Range(1, 30));
+  cmd->add_option("--precision", args->options.precision,
+                  "Largest error per coordinate (overrides --bits)")
+      ->excludes(bits);
+  cmd->add_option("--level", args->options.level, "Compression level 0-9 (higher: smaller)")
+      ->check(CLI::Range(0, 9));
+  cmd->add_flag("--preserve-order", args->options.preserve_order,
+                "Keep vertex and face order exactly (larger)");
+  add_common_options(cmd, args->common, kJson | kQuiet | kForce);
+}
+
+void add_decompress_command(CLI::App& app) {
+  struct Args {
+    std::string input, output;
+    CommonOptions common;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = add_command(app, "decompress", "Decompress a .gmc stream to a mesh file", [args] {
+    const DecompressResult r = decompress(read_bytes(args->input));
+    write_output(r.mesh, {args->input}, args->common, {}, args->output);
+    nlohmann::json j = {{"vertices", r.mesh.n_vertices()},
+                        {"faces", r.mesh.n_faces()},
+                        {"order_preserved", r.order_preserved},
+                        {"max_error", r.max_error}};
+    report(args->common, j,
+           "decoded " + std::to_string(r.mesh.n_vertices()) + " vertices, " +
+               std::to_string(r.mesh.n_faces()) + " faces");
+    return 0;
+  });
+  cmd->add_option("input", args->input, "Compressed stream (.gmc)")->required();
+  cmd->add_option("output", args->output, "Mesh file to write")->required();
+  add_common_options(cmd, args->common, kJson | kQuiet | kForce | kFormat);
+}
+
+}  // namespace geom::cli

@@ -1,0 +1,59 @@
+// geom lod: a chain of levels of detail, each written to its own file with its measured error.
+
+#include "commands.h"
+#include "common.h"
+
+#include <geom/lod/lod_chain.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+namespace geom::cli {
+
+void add_lod_command(CLI::App& app) {
+  struct Args {
+    std::string input, outdir;
+    int levels = 4;
+    double step = 0.5;
+    CommonOptions common;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = add_command(
+      app, "lod", "Write K levels of detail (each a fraction of the previous) with their errors",
+      [args] {
+        if (args->levels < 1 || args->levels > 30) throw UsageError("--levels must be in [1, 30]");
+        if (!(args->step > 0 && args->step < 1)) throw UsageError("--step must be in (0, 1)");
+        Loaded loaded = load_input(args->input, args->common);
+        LodChainOptions o;
+        o.ratios.clear();
+        for (int k = 1; k <= args->levels; ++k) o.ratios.push_back(std::pow(args->step, k));
+        const std::vector<LodLevel> levels = lod_chain(loaded.mesh, o);
+        std::filesystem::create_directories(args->outdir);
+        const FileFormat format = args->common.output_format.value_or(FileFormat::kPly);
+        const std::string stem = args->input == "-" ? "mesh" : std::filesystem::path(args->input).stem().string();
+        nlohmann::json j = nlohmann::json::array();
+        std::string text;
+        for (std::size_t k = 0; k < levels.size(); ++k) {
+          const std::filesystem::path out = std::filesystem::path(args->outdir) /
+              (stem + "_lod" + std::to_string(k + 1) + "." + format_name(format));
+          write_output(levels[k].mesh, {args->input}, args->common, WriteOptions{.format = format}, out.string());
+          const MeshDistance& e = levels[k].error;
+          j.push_back({{"file", out.string()}, {"ratio", levels[k].ratio}, {"faces", levels[k].faces},
+                       {"hausdorff", e.hausdorff}, {"rms", e.rms},
+                       {"relative_hausdorff", e.relative_hausdorff()}, {"relative_rms", e.relative_rms()}});
+          text += out.string() + ": " + std::to_string(levels[k].faces) + " triangles, Hausdorff " +
+                  std::to_string(e.relative_hausdorff()) + " of the diagonal, RMS " +
+                  std::to_string(e.relative_rms()) + "\n";
+        }
+        report(args->common, j, text);
+        return 0;
+      });
+  cmd->add_option("input", args->input, "Mesh file (- for stdin)")->required();
+  cmd->add_option("outdir", args->outdir, "Directory for <stem>_lod<k>.<ext>")->required();
+  cmd->add_option("--levels", args->levels, "Number of levels (default 4)");
+  cmd->add_option("--step", args->step, "Face ratio between consecutive levels (default 0.5)");
+  add_common_options(cmd, args->common, kJson | kQuiet | kForce | kFormat);
+}
+
+}  // namespace geom::cli

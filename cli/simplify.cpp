@@ -1,0 +1,82 @@
+// geom simplify: quadric edge-collapse simplification.
+
+#include "commands.h"
+#include "common.h"
+
+#include <geom/lod/simplify.h>
+#include <geom/spatial/distance.h>
+
+#include <memory>
+
+namespace geom::cli {
+
+void add_simplify_command(CLI::App& app) {
+  struct Args {
+    std::string input, output;
+    std::optional<double> ratio, max_error;
+    std::optional<std::size_t> faces;
+    bool keep_boundary = false, measure = false;
+    SimplifyOptions options;
+    CommonOptions common;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = add_command(
+      app, "simplify", "Reduce the face count by quadric edge collapse", [args] {
+        if (!args->ratio && !args->faces && !args->max_error)
+          throw UsageError("give --ratio R, --faces N or --max-error E");
+        if (args->ratio && args->faces) throw UsageError("give --ratio or --faces, not both");
+        if (!args->output.empty()) {
+          if (!args->common.output.empty() && args->common.output != args->output)
+            throw UsageError("two outputs given (OUT and -o)");
+          args->common.output = args->output;
+        }
+        SimplifyOptions o = args->options;
+        o.ratio = args->ratio.value_or(args->faces || args->max_error ? 0.0 : 0.5);
+        o.target_faces = args->faces.value_or(0);
+        if (args->max_error) o.max_error = *args->max_error;
+        o.lock_boundary = args->keep_boundary;
+        Loaded loaded = load_input(args->input, args->common);
+        Progress progress("simplify", !args->common.quiet && args->common.output != "-");
+        o.progress = progress.callback();
+        SimplifyResult r = simplify(loaded.mesh, o);
+        progress.finish();
+        write_output(r.mesh, {args->input}, args->common);
+        nlohmann::json j = {{"faces_before", r.faces_before},
+                            {"faces_after", r.faces_after},
+                            {"collapses", r.collapses},
+                            {"max_quadric_error", r.max_quadric_error},
+                            {"stop", to_string(r.stop)}};
+        std::string text = std::to_string(r.faces_before) + " -> " + std::to_string(r.faces_after) +
+                           " triangles (" + std::to_string(r.collapses) + " collapses; " +
+                           to_string(r.stop) + ")\n";
+        if (args->measure && r.mesh.n_faces() > 0) {
+          const MeshDistance d = mesh_distance(loaded.mesh, r.mesh);
+          j["hausdorff"] = d.hausdorff;
+          j["rms"] = d.rms;
+          j["relative_hausdorff"] = d.relative_hausdorff();
+          j["relative_rms"] = d.relative_rms();
+          text += "Hausdorff " + std::to_string(d.hausdorff) + " (" +
+                  std::to_string(d.relative_hausdorff()) + " of the diagonal), RMS " +
+                  std::to_string(d.rms) + "\n";
+        }
+        CommonOptions out = args->common;
+        if (args->common.output == "-") out.quiet = true, out.json = false;
+        report(out, j, text);
+        return 0;
+      });
+  cmd->add_option("input", args->input, "Mesh file (- for stdin)")->required();
+  cmd->add_option("output", args->output, "Output mesh file (or -o)");
+  cmd->add_option("--ratio", args->ratio, "Target as a fraction of the input's triangles");
+  cmd->add_option("--faces", args->faces, "Target triangle count");
+  cmd->add_option("--max-error", args->max_error,
+                  "Skip collapses whose quadric error (RMS plane distance, model units) exceeds E");
+  cmd->add_flag("--keep-boundary", args->keep_boundary, "Never move or remove boundary vertices");
+  cmd->add_option("--boundary-weight", args->options.boundary_weight,
+                  "Weight of boundary constraint planes (default 100; 0 = none)");
+  cmd->add_option("--min-quality", args->options.min_triangle_quality,
+                  "Reject collapses leaving triangles below this quality (default 0.02)");
+  cmd->add_flag("--measure", args->measure, "Report the sampled Hausdorff and RMS distance");
+  add_common_options(cmd, args->common, kOutput | kJson | kQuiet | kForce | kFormat);
+}
+
+}  // namespace geom::cli

@@ -1,0 +1,104 @@
+// geom subdivide: Catmull-Clark or Loop refinement with OpenSubdiv's rules.
+
+#include "commands.h"
+#include "common.h"
+
+#include <geom/subdivision/subdivision.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+
+namespace geom::cli {
+
+void add_subdivide_command(CLI::App& app) {
+  struct Args {
+    std::string input, output;
+    std::string scheme = "catmull-clark";
+    std::optional<std::string> boundary;
+    std::string crease_method = "uniform";
+    SubdivideOptions options;
+    double crease_angle = -1.0;
+    CommonOptions common;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = add_command(
+      app, "subdivide", "Refine with Catmull-Clark or Loop subdivision (OpenSubdiv's rules)",
+      [args] {
+        if (!args->output.empty()) {
+          if (!args->common.output.empty() && args->common.output != args->output)
+            throw UsageError("two outputs given (OUT and -o)");
+          args->common.output = args->output;
+        }
+        SubdivideOptions o = args->options;
+        o.scheme = args->scheme == "loop" ? SubdivisionScheme::kLoop
+                                          : SubdivisionScheme::kCatmullClark;
+        o.crease_method = args->crease_method == "chaikin" ? CreaseMethod::kChaikin
+                                                           : CreaseMethod::kUniform;
+        if (args->crease_angle >= 0.0) o.crease_angle = args->crease_angle;
+        Loaded loaded = load_input(args->input, args->common);
+        // The file's "t interpolateboundary" tag (RenderMan values: 0 none, 1 edges and
+        // corners, 2 edges) applies unless --boundary is given.
+        const std::map<std::string, BoundaryInterpolation> modes = {
+            {"none", BoundaryInterpolation::kNone},
+            {"edges", BoundaryInterpolation::kEdges},
+            {"corners", BoundaryInterpolation::kEdgesAndCorners}};
+        if (args->boundary) {
+          o.boundary = modes.at(*args->boundary);
+        } else if (loaded.soup.boundary_interpolation) {
+          const int tag = *loaded.soup.boundary_interpolation;
+          o.boundary = tag == 0 ? BoundaryInterpolation::kNone
+                       : tag == 1 ? BoundaryInterpolation::kEdgesAndCorners
+                                  : BoundaryInterpolation::kEdges;
+        }
+        Progress progress("subdivide", !args->common.quiet && args->common.output != "-");
+        o.progress = progress.callback();
+        const auto t0 = std::chrono::steady_clock::now();
+        SubdivideResult r = subdivide(loaded.mesh, o);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        progress.finish();
+        write_output(r.mesh, {args->input}, args->common);
+        nlohmann::json j = {{"scheme", args->scheme},
+                            {"levels", r.levels},
+                            {"vertices", r.mesh.n_vertices()},
+                            {"edges", r.mesh.n_edges()},
+                            {"faces", r.mesh.n_faces()},
+                            {"faces_before", loaded.mesh.n_faces()},
+                            {"angle_creased_edges", r.angle_creased_edges},
+                            {"seconds", seconds}};
+        std::string text = std::to_string(loaded.mesh.n_faces()) + " -> " +
+                           std::to_string(r.mesh.n_faces()) + " faces (" + args->scheme +
+                           ", " + std::to_string(r.levels) + " levels, " +
+                           std::to_string(seconds) + " s)\n";
+        if (o.limit) {
+          j["limit_max_distance"] = r.limit_max_distance;
+          j["limit_rms_distance"] = r.limit_rms_distance;
+          text += "pushed to the limit surface: max move " +
+                  std::to_string(r.limit_max_distance) + ", RMS " +
+                  std::to_string(r.limit_rms_distance) + "\n";
+        }
+        CommonOptions out = args->common;
+        if (args->common.output == "-") out.quiet = true, out.json = false;
+        report(out, j, text);
+        return 0;
+      });
+  cmd->add_option("input", args->input, "Mesh file (- for stdin)")->required();
+  cmd->add_option("output", args->output, "Output mesh file (or -o)");
+  cmd->add_option("--scheme", args->scheme, "catmull-clark (default) or loop")
+      ->check(CLI::IsMember({"catmull-clark", "loop"}));
+  cmd->add_option("--levels", args->options.levels, "Refinement levels (default 1)")
+      ->check(CLI::Range(0, 10));
+  cmd->add_option("--boundary", args->boundary,
+                  "none, edges (default) or corners (edges and corners stay sharp)")
+      ->check(CLI::IsMember({"none", "edges", "corners"}));
+  cmd->add_option("--crease-method", args->crease_method, "uniform (default) or chaikin")
+      ->check(CLI::IsMember({"uniform", "chaikin"}));
+  cmd->add_flag("--limit", args->options.limit, "Push the final vertices onto the limit surface");
+  cmd->add_option("--crease-angle", args->crease_angle,
+                  "Make edges with a dihedral angle above DEG degrees infinitely sharp")
+      ->check(CLI::Range(0.0, 180.0));
+  add_common_options(cmd, args->common, kOutput | kJson | kQuiet | kForce | kFormat);
+}
+
+}  // namespace geom::cli

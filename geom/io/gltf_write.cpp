@@ -1,0 +1,257 @@
+// glTF output and document helpers: one binary buffer, accessors with the bounds the
+// specification requires, MSFT_lod for LOD chains.
+
+#include <geom/io/gltf.h>
+
+#include <geom/core/errors.h>
+
+#include <nlohmann/json.hpp>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <tuple>
+
+namespace geom {
+namespace {
+
+using nlohmann::json;
+
+// glTF stores attributes per vertex; corner attributes (OBJ's vt/vn) split vertices at seams.
+struct Expanded {
+  std::vector<Point> positions;
+  std::vector<Normal> normals;
+  std::vector<TexCoord> texcoords;
+  std::vector<std::uint32_t> triangles;
+};
+
+Expanded expand(const PolygonSoup& s) {
+  Expanded e;
+  const bool corner_uv = !s.corner_texcoords.empty(), corner_n = !s.corner_normals.empty();
+  const bool vn = !corner_n && s.vertex_normals.size() == s.positions.size() && !s.positions.empty();
+  const bool vt = !corner_uv && s.vertex_texcoords.size() == s.positions.size() && !s.positions.empty();
+  std::map<std::tuple<std::uint32_t, double, double, double, double, double>, std::uint32_t> seen;
+  std::vector<std::uint32_t> remap(s.positions.size(), 0xFFFFFFFFu);
+  auto vertex_of = [&](std::size_t corner, std::uint32_t v) -> std::uint32_t {
+    if (!corner_uv && !corner_n) {
+      if (remap[v] == 0xFFFFFFFFu) {
+        remap[v] = static_cast<std::uint32_t>(e.positions.size());
+        e.positions.push_back(s.positions[v]);
+        if (vn) e.normals.push_back(s.vertex_normals[v]);
+        if (vt) e.texcoords.push_back(s.vertex_texcoords[v]);
+      }
+      return remap[v];
+    }
+    TexCoord uv = corner_uv ? s.corner_texcoords[corner] : TexCoord::Zero();
+    Normal n = corner_n ? s.corner_normals[corner] : Normal::Zero();
+    auto key = std::make_tuple(v, uv.x(), uv.y(), n.x(), n.y(), n.z());
+    auto [it, fresh] = seen.emplace(key, static_cast<std::uint32_t>(e.positions.size()));
+    if (fresh) {
+      e.positions.push_back(s.positions[v]);
+      if (corner_n) e.normals.push_back(n);
+      if (corner_uv) e.texcoords.push_back(uv);
+    }
+    return it->second;
+  };
+  for (std::size_t f = 0; f < s.n_faces(); ++f) {
+    auto c = s.face(f);
+    const std::size_t first = s.face_offsets[f];
+    for (std::size_t k = 1; k + 1 < c.size(); ++k) {
+      e.triangles.push_back(vertex_of(first, c[0]));
+      e.triangles.push_back(vertex_of(first + k, c[k]));
+      e.triangles.push_back(vertex_of(first + k + 1, c[k + 1]));
+    }
+  }
+  return e;
+}
+
+class Writer {
+ public:
+  json gltf = {{"asset", {{"version", "2.0"}, {"generator", "geom 0.1.0"}}}};
+  std::string bin;
+
+  int add_view(const void* data, std::size_t bytes, int target) {
+    while (bin.size() % 4) bin.push_back('\0');
+    json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}, {"target", target}};
+    bin.append(static_cast<const char*>(data), bytes);
+    gltf["bufferViews"].push_back(view);
+    return static_cast<int>(gltf["bufferViews"].size() - 1);
+  }
+
+  template <int N, class V>
+  int add_float_accessor(const std::vector<V>& values, const char* type, bool bounds) {
+    std::vector<float> f;
+    f.reserve(values.size() * N);
+    for (const V& v : values)
+      for (int k = 0; k < N; ++k) f.push_back(static_cast<float>(v[k]));
+    json acc = {{"bufferView", add_view(f.data(), f.size() * 4, 34962)}, {"componentType", 5126},
+                {"count", values.size()}, {"type", type}};
+    if (bounds && !values.empty()) {  // POSITION must carry min and max
+      std::vector<float> lo(N, f[0]), hi(N, f[0]);
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        lo[i % N] = std::min(lo[i % N], f[i]);
+        hi[i % N] = std::max(hi[i % N], f[i]);
+      }
+      acc["min"] = lo;
+      acc["max"] = hi;
+    }
+    gltf["accessors"].push_back(acc);
+    return static_cast<int>(gltf["accessors"].size() - 1);
+  }
+
+  void add_mesh(const PolygonSoup& soup, const std::string& name) {
+    Expanded e = expand(soup);
+    json prim = {{"mode", 4}};
+    prim["attributes"]["POSITION"] = add_float_accessor<3>(e.positions, "VEC3", true);
+    if (!e.normals.empty()) prim["attributes"]["NORMAL"] = add_float_accessor<3>(e.normals, "VEC3", false);
+    if (!e.texcoords.empty()) prim["attributes"]["TEXCOORD_0"] = add_float_accessor<2>(e.texcoords, "VEC2", false);
+    gltf["accessors"].push_back({{"bufferView", add_view(e.triangles.data(), e.triangles.size() * 4, 34963)},
+                                 {"componentType", 5125}, {"count", e.triangles.size()}, {"type", "SCALAR"}});
+    prim["indices"] = gltf["accessors"].size() - 1;
+    json mesh = {{"primitives", json::array({prim})}};
+    if (!name.empty()) mesh["name"] = name;
+    gltf["meshes"].push_back(mesh);
+  }
+};
+
+void append_le32(std::string& s, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+
+std::string base64(const std::string& in) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((in.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < in.size(); i += 3) {
+    std::uint32_t v = static_cast<std::uint8_t>(in[i]) << 16;
+    if (i + 1 < in.size()) v |= static_cast<std::uint8_t>(in[i + 1]) << 8;
+    if (i + 2 < in.size()) v |= static_cast<std::uint8_t>(in[i + 2]);
+    out.push_back(kAlphabet[(v >> 18) & 63]);
+    out.push_back(kAlphabet[(v >> 12) & 63]);
+    out.push_back(i + 1 < in.size() ? kAlphabet[(v >> 6) & 63] : '=');
+    out.push_back(i + 2 < in.size() ? kAlphabet[v & 63] : '=');
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string write_gltf(const GltfDocument& doc, bool binary) {
+  Writer w;
+  w.gltf["bufferViews"] = json::array();
+  w.gltf["accessors"] = json::array();
+  w.gltf["meshes"] = json::array();
+  for (std::size_t m = 0; m < doc.meshes.size(); ++m)
+    w.add_mesh(doc.meshes[m], m < doc.mesh_names.size() ? doc.mesh_names[m] : "");
+  bool lod = false;
+  json nodes = json::array();
+  for (std::size_t i = 0; i < doc.nodes.size(); ++i) {
+    const GltfNode& n = doc.nodes[i];
+    json node = json::object();
+    if (!n.name.empty()) node["name"] = n.name;
+    if (n.mesh >= 0) {
+      if (n.mesh >= static_cast<int>(doc.meshes.size())) throw InvalidArgument("glTF node " + std::to_string(i) + " refers to missing mesh " + std::to_string(n.mesh));
+      node["mesh"] = n.mesh;
+    }
+    if (!n.matrix.isIdentity(0)) {
+      std::vector<double> m;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m.push_back(n.matrix(r, c));
+      node["matrix"] = m;
+    }
+    for (int c : n.children)
+      if (c < 0 || c >= static_cast<int>(doc.nodes.size())) throw InvalidArgument("glTF node " + std::to_string(i) + " has a missing child");
+    if (!n.children.empty()) node["children"] = n.children;
+    if (!n.lods.empty()) {
+      node["extensions"]["MSFT_lod"]["ids"] = n.lods;
+      lod = true;
+    }
+    nodes.push_back(node);
+  }
+  w.gltf["nodes"] = nodes;
+  w.gltf["scenes"] = json::array({{{"nodes", doc.roots}}});
+  w.gltf["scene"] = 0;
+  if (lod) w.gltf["extensionsUsed"] = json::array({"MSFT_lod"});
+  while (w.bin.size() % 4) w.bin.push_back('\0');
+  json buffer = {{"byteLength", w.bin.size()}};
+  if (!binary) buffer["uri"] = "data:application/octet-stream;base64," + base64(w.bin);
+  w.gltf["buffers"] = json::array({buffer});
+  std::string text = w.gltf.dump();
+  if (!binary) return text;
+  while (text.size() % 4) text.push_back(' ');
+  std::string out;
+  append_le32(out, 0x46546C67);
+  append_le32(out, 2);
+  append_le32(out, static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + w.bin.size()));
+  append_le32(out, static_cast<std::uint32_t>(text.size()));
+  append_le32(out, 0x4E4F534A);
+  out += text;
+  append_le32(out, static_cast<std::uint32_t>(w.bin.size()));
+  append_le32(out, 0x004E4942);
+  out += w.bin;
+  return out;
+}
+
+PolygonSoup flatten(const GltfDocument& doc) {
+  PolygonSoup out;
+  bool normals = true, uvs = true;
+  std::vector<std::uint8_t> on_path(doc.nodes.size(), 0);
+  std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int i, const Eigen::Matrix4d& parent) {
+    if (i < 0 || i >= static_cast<int>(doc.nodes.size())) throw InvalidArgument("glTF: missing node " + std::to_string(i));
+    if (on_path[i]) throw InvalidArgument("glTF: node " + std::to_string(i) + " is its own ancestor");
+    const GltfNode& n = doc.nodes[i];
+    const Eigen::Matrix4d world = parent * n.matrix;
+    if (n.mesh >= 0) {
+      const PolygonSoup& s = doc.meshes.at(n.mesh);
+      const Eigen::Matrix3d lin = world.block<3, 3>(0, 0), nrm = lin.inverse().transpose();
+      const auto base = static_cast<std::uint32_t>(out.positions.size());
+      for (const Point& p : s.positions) out.positions.push_back(lin * p + world.block<3, 1>(0, 3));
+      normals &= s.vertex_normals.size() == s.positions.size();
+      uvs &= s.vertex_texcoords.size() == s.positions.size();
+      if (normals) for (const Normal& v : s.vertex_normals) out.vertex_normals.push_back((nrm * v).normalized());
+      if (uvs) out.vertex_texcoords.insert(out.vertex_texcoords.end(), s.vertex_texcoords.begin(), s.vertex_texcoords.end());
+      const bool flip = lin.determinant() < 0;  // a mirror turns the faces inside out
+      for (std::size_t f = 0; f < s.n_faces(); ++f) {
+        std::vector<std::uint32_t> c(s.face(f).begin(), s.face(f).end());
+        for (auto& v : c) v += base;
+        if (flip) std::reverse(c.begin(), c.end());
+        out.add_face(c);
+      }
+    }
+    on_path[i] = 1;
+    for (int c : n.children) visit(c, world);
+    on_path[i] = 0;
+  };
+  for (int r : doc.roots) visit(r, Eigen::Matrix4d::Identity());
+  if (!normals) out.vertex_normals.clear();
+  if (!uvs) out.vertex_texcoords.clear();
+  return out;
+}
+
+GltfDocument gltf_from_soup(PolygonSoup soup, const std::string& name) {
+  GltfDocument d;
+  d.meshes.push_back(std::move(soup));
+  d.mesh_names.push_back(name);
+  d.nodes.push_back(GltfNode{name, Eigen::Matrix4d::Identity(), 0, {}, {}});
+  d.roots = {0};
+  return d;
+}
+
+GltfDocument gltf_lod_chain(std::vector<PolygonSoup> levels) {
+  GltfDocument d;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    d.meshes.push_back(std::move(levels[i]));
+    d.mesh_names.push_back("lod" + std::to_string(i));
+    d.nodes.push_back(GltfNode{"lod" + std::to_string(i), Eigen::Matrix4d::Identity(), static_cast<int>(i), {}, {}});
+  }
+  if (!d.nodes.empty()) {
+    for (std::size_t i = 1; i < d.nodes.size(); ++i) d.nodes[0].lods.push_back(static_cast<int>(i));
+    d.roots = {0};  // lower levels are reached through MSFT_lod, not shown beside the first
+  }
+  return d;
+}
+
+}  // namespace geom

@@ -1,0 +1,93 @@
+// Bindings of geom/io: load and save mesh files.
+
+#include "arrays.h"
+#include "bindings.h"
+
+#include <geom/core/build.h>
+#include <geom/core/errors.h>
+#include <geom/io/io.h>
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <optional>
+#include <string>
+
+namespace geom::python {
+
+namespace {
+
+std::optional<FileFormat> format_from_name(const std::optional<std::string>& name) {
+  if (!name) return std::nullopt;
+  for (FileFormat f : {FileFormat::kObj, FileFormat::kPly, FileFormat::kOff, FileFormat::kStl,
+                       FileFormat::kDrc, FileFormat::kGltf, FileFormat::kGlb})
+    if (*name == format_name(f)) return f;
+  throw InvalidArgument("format: expected one of obj, ply, off, stl, drc, gltf, glb; got '" + *name + "'");
+}
+
+std::optional<std::string> name_of(const std::optional<FileFormat>& f) {
+  if (!f) return std::nullopt;
+  return std::string(format_name(*f));
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+  py::class_<WriteOptions>(m, "WriteOptions", "Options of geom::save_mesh (see geom/io/io.h).")
+      .def(py::init<>())
+      .def_property(
+          "format", [](const WriteOptions& o) { return name_of(o.format); },
+          [](WriteOptions& o, const std::optional<std::string>& s) { o.format = format_from_name(s); },
+          "None (from the file name) or one of 'obj', 'ply', 'off', 'stl', 'drc'")
+      .def_readwrite("binary", &WriteOptions::binary)
+      .def_readwrite("drc_position_bits", &WriteOptions::drc_position_bits)
+      .def_readwrite("drc_level", &WriteOptions::drc_level)
+      .def_readwrite("attributes", &WriteOptions::attributes);
+
+  py::class_<LoadResult>(m, "LoadResult")
+      .def_readonly("mesh", &LoadResult::mesh)
+      .def_readonly("report", &LoadResult::report);
+
+  m.def(
+      "load_mesh",
+      [](const std::string& path, const std::optional<std::string>& format,
+         const BuildOptions& build) {
+        check_readable(path);
+        ReadOptions read;
+        read.format = format_from_name(format);
+        py::gil_scoped_release release;
+        return load_mesh(path, read, build);
+      },
+      py::arg("path"), py::arg("format") = py::none(), py::arg("build") = BuildOptions{});
+
+  m.def(
+      "load_mesh_bytes",
+      [](const py::bytes& data, const std::string& format, const BuildOptions& build,
+         const std::string& name) {
+        const FileFormat f = *format_from_name(format);
+        const std::string_view view = data;
+        py::gil_scoped_release release;
+        const PolygonSoup soup =
+            read_soup(std::as_bytes(std::span<const char>(view.data(), view.size())), f, name);
+        BuildResult built = geom::build(soup, build);
+        return LoadResult{std::move(built.mesh), std::move(built.report)};
+      },
+      py::arg("data"), py::arg("format"), py::arg("build") = BuildOptions{},
+      py::arg("name") = "<bytes>");
+
+  m.def(
+      "save_mesh",
+      [](const SurfaceMesh& mesh, const std::string& path, const WriteOptions& options) {
+        check_writable(path);
+        py::gil_scoped_release release;
+        save_mesh(mesh, path, options);
+      },
+      py::arg("mesh"), py::arg("path"), py::arg("options") = WriteOptions{});
+
+  m.def(
+      "format_from_path",
+      [](const std::string& path) { return std::string(format_name(format_from_path(path))); },
+      py::arg("path"));
+}
+
+}  // namespace geom::python

@@ -1,0 +1,52 @@
+"""Reading and writing mesh files (geom/io): OBJ, PLY, OFF, STL and Draco (.drc)."""
+
+import os
+
+from . import _geom
+from ._options import make
+from .core import BuildOptions
+
+__all__ = ["load", "load_with_report", "loads", "save", "WriteOptions", "LoadResult",
+           "FORMATS"]
+
+WriteOptions = _geom.WriteOptions
+LoadResult = _geom.LoadResult
+FORMATS = ("obj", "ply", "off", "stl", "drc")
+
+
+def load_with_report(path, format=None, **build_options):
+    """Read a mesh file and build a mesh from it.
+
+    ``format`` is one of FORMATS, or None to judge by the file name and content. Keyword
+    options are BuildOptions fields (see :func:`geom.build`). Returns a LoadResult with
+    ``.mesh`` and ``.report`` (what building changed).
+
+    Raises OSError (FileNotFoundError, PermissionError, IsADirectoryError) when the file
+    cannot be opened, ValueError (geom.ParseError naming the file and line or byte offset)
+    when it is malformed.
+    """
+    return _geom.load_mesh(os.fspath(path), format, make(BuildOptions, build_options))
+
+
+def load(path, format=None, **build_options):
+    """Read a mesh file: :func:`load_with_report` without the report."""
+    return load_with_report(path, format, **build_options).mesh
+
+
+def loads(data, format, name="<bytes>", **build_options):
+    """Read a mesh from ``data`` (bytes) in ``format`` (one of FORMATS); ``name`` is used in
+    error messages. Returns a LoadResult."""
+    return _geom.load_mesh_bytes(bytes(data), format, make(BuildOptions, build_options), name)
+
+
+def save(mesh, path, binary=True, format=None, **options):
+    """Write ``mesh`` to ``path``; the format comes from the extension unless ``format`` is
+    given. ``binary`` selects binary or ASCII PLY/STL (OBJ and OFF are always text). Other
+    options (WriteOptions fields): ``attributes`` (write normals/colours/texture coordinates,
+    default True), ``drc_position_bits`` (Draco quantisation, 0 = lossless), ``drc_level``.
+
+    Raises OSError when the folder does not exist or is not writable, ValueError when the
+    extension is unknown or the format cannot hold the data.
+    """
+    opts = make(WriteOptions, dict(options, binary=binary, format=format))
+    _geom.save_mesh(mesh, os.fspath(path), opts)

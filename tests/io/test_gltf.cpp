@@ -1,0 +1,168 @@
+// glTF 2.0: round trips, hierarchy, MSFT_lod chains, and clear errors on bad files.
+
+#include <geom/core/errors.h>
+#include <geom/io/gltf.h>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+
+namespace geom {
+namespace {
+
+std::span<const std::byte> bytes(const std::string& s) {
+  return {reinterpret_cast<const std::byte*>(s.data()), s.size()};
+}
+
+PolygonSoup quad_and_triangle() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 2, 0.25}};
+  s.add_face({0, 1, 2, 3});
+  s.add_face({3, 2, 4});
+  s.vertex_normals.assign(5, Normal(0, 0, 1));
+  s.vertex_texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 1.5}};
+  return s;
+}
+
+std::string error_of(const std::string& data) {
+  try {
+    read_gltf(bytes(data), "bad.gltf");
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Gltf, GlbAndJsonRoundTripTriangulatedWithAttributes) {
+  for (bool binary : {true, false}) {
+    std::string data = write_gltf(gltf_from_soup(quad_and_triangle()), binary);
+    EXPECT_EQ(data.substr(0, 4) == "glTF", binary);
+    GltfDocument doc = read_gltf(bytes(data), "x");
+    ASSERT_EQ(doc.meshes.size(), 1u);
+    const PolygonSoup& s = doc.meshes[0];
+    EXPECT_EQ(s.positions.size(), 5u);
+    EXPECT_EQ(s.n_faces(), 3u);  // the quad became two triangles
+    EXPECT_EQ(s.positions[4], Point(0.5, 2, 0.25));
+    ASSERT_EQ(s.vertex_normals.size(), 5u);
+    ASSERT_EQ(s.vertex_texcoords.size(), 5u);
+    EXPECT_EQ(s.vertex_texcoords[4], TexCoord(0.5, 1.5));
+    EXPECT_EQ(doc.roots, std::vector<int>{0});
+  }
+}
+
+TEST(Gltf, CornerTexcoordsSplitVerticesAtSeams) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  s.add_face({0, 1, 2});
+  s.add_face({0, 2, 3});
+  // Vertex 0 and 2 carry different uvs in the two faces: a seam along the diagonal.
+  s.corner_texcoords = {{0, 0}, {1, 0}, {1, 1}, {0.5, 0}, {1, 1}, {0, 1}};
+  PolygonSoup back = read_gltf(bytes(write_gltf(gltf_from_soup(s), true)), "x").meshes[0];
+  EXPECT_EQ(back.positions.size(), 5u);  // vertex 0 split, vertex 2 shared
+  EXPECT_EQ(back.n_faces(), 2u);
+}
+
+TEST(Gltf, HierarchyIsKeptAndFlattened) {
+  GltfDocument d = gltf_from_soup(quad_and_triangle());
+  d.nodes[0].mesh = -1;
+  d.nodes[0].matrix(0, 3) = 10;  // parent moves by +10 in x
+  GltfNode child{"child", Eigen::Matrix4d::Identity(), 0, {}, {}};
+  child.matrix(1, 1) = 2;  // child scales y by 2
+  d.nodes.push_back(child);
+  d.nodes[0].children = {1};
+  GltfDocument back = read_gltf(bytes(write_gltf(d, true)), "x");
+  ASSERT_EQ(back.nodes.size(), 2u);
+  EXPECT_EQ(back.nodes[0].children, std::vector<int>{1});
+  EXPECT_DOUBLE_EQ(back.nodes[0].matrix(0, 3), 10);
+  PolygonSoup flat = flatten(back);
+  EXPECT_EQ(flat.positions[4], Point(10.5, 4, 0.25));
+  d.nodes[1].children = {0};
+  EXPECT_THROW(flatten(d), InvalidArgument);
+}
+
+TEST(Gltf, LodChainUsesMsftLod) {
+  PolygonSoup fine = quad_and_triangle(), coarse = quad_and_triangle();
+  coarse.face_offsets.pop_back();
+  coarse.face_indices.resize(4);
+  std::string data = write_gltf(gltf_lod_chain({fine, coarse}), false);
+  auto j = nlohmann::json::parse(data);
+  EXPECT_EQ(j["extensionsUsed"][0], "MSFT_lod");
+  EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"][0], 1);
+  GltfDocument back = read_gltf(bytes(data), "x");
+  EXPECT_EQ(back.nodes[0].lods, std::vector<int>{1});
+  EXPECT_EQ(flatten(back).n_faces(), 3u);  // only the finest level is shown
+}
+
+// A minimal valid document with one triangle, to break in the tests below.
+nlohmann::json triangle_doc() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.add_face({0, 1, 2});
+  return nlohmann::json::parse(write_gltf(gltf_from_soup(s), false));
+}
+
+TEST(Gltf, BadFilesGetErrorsNamingTheElement) {
+  auto j = triangle_doc();
+  EXPECT_EQ(error_of(j.dump()), "");
+  auto k = j;
+  k["bufferViews"][0]["byteStride"] = 2;
+  EXPECT_NE(error_of(k.dump()).find("bufferViews[0].byteStride"), std::string::npos);
+  k = j;
+  k["bufferViews"][0]["byteStride"] = 8;  // smaller than a VEC3 of floats
+  EXPECT_NE(error_of(k.dump()).find("smaller than the element size"), std::string::npos);
+  k = j;
+  k["buffers"][0]["uri"] = "missing.bin";
+  EXPECT_NE(error_of(k.dump()).find("buffers[0].uri"), std::string::npos);
+  k = j;
+  k["buffers"][0].erase("uri");
+  EXPECT_NE(error_of(k.dump()).find("buffers[0]"), std::string::npos);
+  k = j;
+  k["accessors"][0]["count"] = 1000000;
+  EXPECT_NE(error_of(k.dump()).find("accessors[0]"), std::string::npos);
+  k = j;
+  k["accessors"][0]["bufferView"] = 9;
+  EXPECT_NE(error_of(k.dump()).find("accessors[0].bufferView"), std::string::npos);
+  k = j;
+  k["meshes"][0]["primitives"][0]["mode"] = 1;
+  EXPECT_NE(error_of(k.dump()).find("not a surface"), std::string::npos);
+  k = j;
+  k["asset"]["version"] = "1.0";
+  EXPECT_NE(error_of(k.dump()).find("asset.version"), std::string::npos);
+  k = j;
+  k["accessors"][0]["sparse"] = nlohmann::json::object();
+  EXPECT_NE(error_of(k.dump()).find("sparse"), std::string::npos);
+  k = j;
+  k["nodes"][0]["children"] = {5};
+  EXPECT_NE(error_of(k.dump()).find("nodes[0].children"), std::string::npos);
+  EXPECT_NE(error_of("{\"asset\": ").find("invalid glTF JSON"), std::string::npos);
+}
+
+TEST(Gltf, IndexBeyondVertexCountIsRejected) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.add_face({0, 1, 2});
+  std::string glb = write_gltf(gltf_from_soup(s), true);
+  // The index buffer is the last 12 bytes of the BIN chunk: make one index 7.
+  glb[glb.size() - 4] = 7;
+  try {
+    read_gltf(bytes(glb), "x.glb");
+    FAIL() << "expected ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("not below the vertex count 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Gltf, TruncatedGlbIsRejected) {
+  PolygonSoup s = quad_and_triangle();
+  std::string glb = write_gltf(gltf_from_soup(s), true);
+  for (std::size_t len : {std::size_t{3}, std::size_t{12}, std::size_t{19}, glb.size() / 2, glb.size() - 1})
+    EXPECT_THROW(read_gltf(bytes(glb.substr(0, len)), "t.glb"), ParseError) << len;
+  std::string v1 = glb;
+  v1[4] = 1;
+  EXPECT_THROW(read_gltf(bytes(v1), "t.glb"), ParseError);
+}
+
+}  // namespace
+}  // namespace geom

@@ -1,0 +1,78 @@
+"""geom.subdivide / geom.limit_positions from Python."""
+
+import json
+
+import numpy as np
+import pytest
+
+import geom
+from conftest import SAMPLE
+
+CUBE_V = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                   [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], float)
+CUBE_F = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+
+
+def cube():
+    return geom.Mesh(CUBE_V, CUBE_F)
+
+
+def test_catmull_clark_counts_and_limit():
+    r = geom.subdivide(cube(), levels=2)
+    assert r.mesh.n_faces == 96
+    assert r.mesh.n_vertices == 98
+    assert [c.faces for c in r.per_level] == [6, 24, 96]
+    pushed = geom.subdivide(cube(), levels=2, limit=True)
+    assert pushed.limit_max_distance > 0
+    lim = geom.limit_positions(r.mesh, normals=True)
+    np.testing.assert_allclose(lim.positions, pushed.mesh.vertices, atol=1e-14)
+    np.testing.assert_allclose(np.linalg.norm(lim.normals, axis=1), 1.0)
+
+
+def test_creases_as_arrays_keep_sharp_edges():
+    # Every cube edge infinitely sharp: the corners stay put.
+    edges = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4),
+             (0, 4), (1, 5), (2, 6), (3, 7)]
+    creases = [(a, b, 10.0) for a, b in edges]
+    r = geom.subdivide(cube(), creases=creases, levels=2)
+    v = r.mesh.vertices
+    for corner in CUBE_V:
+        assert np.min(np.linalg.norm(v - corner, axis=1)) == 0.0
+    smooth = geom.subdivide(cube(), corners=[(0, 10.0)], levels=1)
+    assert np.min(np.linalg.norm(smooth.mesh.vertices - CUBE_V[0], axis=1)) == 0.0
+
+
+def test_loop_and_options():
+    tet = geom.Mesh(np.array([[1, 1, 1], [-1, -1, 1], [-1, 1, -1], [1, -1, -1]], float),
+                    [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]])
+    r = geom.subdivide(tet, scheme="loop", levels=3, boundary="corners", crease_method="chaikin")
+    assert r.mesh.n_faces == 4 * 64
+    assert geom.subdivide(cube(), crease_angle=60.0).angle_creased_edges == 12
+
+
+def test_errors():
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), scheme="loop")
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), scheme="butterfly")
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), levels=11)
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), creases=[(0, 6, 1.0)])  # a diagonal, not an edge
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), creases=[(0, 99, 1.0)])
+    with pytest.raises(TypeError):
+        geom.subdivide(cube(), level=2)
+
+
+def test_cli_subdivide(run, tmp_path):
+    out = tmp_path / "smooth.obj"
+    r = run("subdivide", SAMPLE, "-o", out, "--levels", "1", "--limit", "--json")
+    assert r.returncode == 0, r.stderr
+    j = json.loads(r.stdout)
+    assert j["levels"] == 1 and j["faces"] > j["faces_before"]
+    assert j["limit_max_distance"] >= j["limit_rms_distance"] > 0
+    assert geom.load(str(out)).n_faces == j["faces"]
+    assert run("subdivide", SAMPLE, "-o", tmp_path / "x.obj", "--scheme", "butterfly").returncode == 2
+    assert run("subdivide", SAMPLE, "-o", tmp_path / "x.obj", "--levels", "11").returncode == 2
+    assert run("subdivide", tmp_path / "missing.obj", "-o", tmp_path / "y.obj").returncode == 1
