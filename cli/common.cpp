@@ -199,6 +199,8 @@ nlohmann::json to_json(const TopologyReport& r) {
           {"closed", r.closed},
           {"manifold", r.manifold},
           {"orientable", r.orientable},
+          {"consistently_oriented", r.consistently_oriented},
+          {"out_of_range_faces", r.out_of_range_faces},
           {"nonmanifold_vertices", r.nonmanifold_vertices},
           {"nonmanifold_edges", r.nonmanifold_edges},
           {"degenerate_faces", r.degenerate_faces},

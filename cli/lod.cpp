@@ -3,10 +3,12 @@
 #include "commands.h"
 #include "common.h"
 
+#include <geom/io/gltf.h>
 #include <geom/lod/lod_chain.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 namespace geom::cli {
@@ -16,6 +18,7 @@ void add_lod_command(CLI::App& app) {
     std::string input, outdir;
     int levels = 4;
     double step = 0.5;
+    std::string gltf;
     CommonOptions common;
   };
   auto args = std::make_shared<Args>();
@@ -46,6 +49,19 @@ void add_lod_command(CLI::App& app) {
                   std::to_string(e.relative_hausdorff()) + " of the diagonal, RMS " +
                   std::to_string(e.relative_rms()) + "\n";
         }
+        if (!args->gltf.empty()) {
+          // The whole chain in one file for renderers: the input, then each level, linked by
+          // MSFT_lod so a viewer shows the first and switches by screen coverage.
+          std::vector<PolygonSoup> chain{to_soup(loaded.mesh)};
+          for (const LodLevel& l : levels) chain.push_back(to_soup(l.mesh));
+          check_not_input(args->gltf, {args->input}, args->common);
+          const bool binary = std::filesystem::path(args->gltf).extension() != ".gltf";
+          const std::string bytes = write_gltf(gltf_lod_chain(std::move(chain)), binary);
+          std::ofstream out(args->gltf, std::ios::binary);
+          if (!out || !out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+            throw Error("cannot write '" + args->gltf + "'");
+          text += args->gltf + ": the chain as glTF with MSFT_lod\n";
+        }
         report(args->common, j, text);
         return 0;
       });
@@ -53,6 +69,7 @@ void add_lod_command(CLI::App& app) {
   cmd->add_option("outdir", args->outdir, "Directory for <stem>_lod<k>.<ext>")->required();
   cmd->add_option("--levels", args->levels, "Number of levels (default 4)");
   cmd->add_option("--step", args->step, "Face ratio between consecutive levels (default 0.5)");
+  cmd->add_option("--gltf", args->gltf, "Also write the chain to one .glb/.gltf with the MSFT_lod extension");
   add_common_options(cmd, args->common, kJson | kQuiet | kForce | kFormat);
 }
 

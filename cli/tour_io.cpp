@@ -63,6 +63,8 @@ void tour_io(TourContext& tour) {
   tour.grid({"file", "format", "bytes", "vertices read back", "faces read back", "write ms",
              "read ms"},
             rows);
+  const LoadResult glb = load_mesh(tour.out_dir / (tour.stem + ".glb"));
+  tour.preview(tour.stem + "_from_glb.png", glb.mesh, "the mesh read back from its .glb");
   tour.record({{"formats", formats}});
 }
 

@@ -402,3 +402,14 @@ def test_progress_only_on_a_terminal(geom_bin, run):
     assert run("info", SAMPLE).stderr == ""  # not a terminal: no bar
     r, shown = run_with_terminal_stderr(geom_bin, "info", "--quiet", SAMPLE)
     assert r.returncode == 0 and shown == ""
+
+
+def test_lod_writes_an_msft_lod_gltf_chain(run, tmp_path):
+    import json
+    out = tmp_path / "chain.gltf"
+    r = run("lod", str(SAMPLE), str(tmp_path / "levels"), "--levels", "2", "--gltf", str(out))
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(out.read_text())
+    assert doc["extensionsUsed"] == ["MSFT_lod"]
+    assert doc["nodes"][0]["extensions"]["MSFT_lod"]["ids"] == [1, 2]
+    assert len(doc["meshes"]) == 3
