@@ -32,17 +32,6 @@ using namespace geom::bench;
 
 namespace {
 
-template <class F>
-double cpu_time_min(F&& f, int repeats) {
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < repeats; ++i) {
-    const std::clock_t t0 = std::clock();
-    f();
-    best = std::min(best, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-  }
-  return best;
-}
-
 // A torus sampled on a jittered parameter grid with radial noise: irregular triangle
 // shapes and sizes, like a scan, but watertight.
 TriangleArrays noisy_torus(std::size_t faces) {

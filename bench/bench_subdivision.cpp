@@ -32,18 +32,6 @@ using geom::bench::fmt;
 
 namespace {
 
-/// Smallest process CPU time of `repeats` runs of f, in seconds (single-threaded work).
-template <class F>
-double cpu_min(F&& f, int repeats) {
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < repeats; ++i) {
-    const std::clock_t t0 = std::clock();
-    f();
-    best = std::min(best, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-  }
-  return best;
-}
-
 SurfaceMesh mesh_from(const std::vector<Point>& pts, const std::vector<std::vector<int>>& faces) {
   SurfaceMesh m;
   for (const Point& p : pts) m.add_vertex(p);
@@ -263,13 +251,13 @@ int main(int argc, char** argv) {
     {
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
       o.parallel = false;
-      ours_1t = cpu_min([&] { result = subdivide(*c.mesh, o); }, repeats);
+      ours_1t = geom::bench::cpu_time_min([&] { result = subdivide(*c.mesh, o); }, repeats);
     }
     o.parallel = true;
     const double ours_mt = geom::bench::time_min([&] { result = subdivide(*c.mesh, o); }, repeats);
     std::size_t faces = 0;
     const double peer =
-        cpu_min([&] { faces = osd_refine(*c.mesh, c.loop, c.levels, c.limit); }, repeats);
+        geom::bench::cpu_time_min([&] { faces = osd_refine(*c.mesh, c.loop, c.levels, c.limit); }, repeats);
     std::vector<Vec3> osd;
     osd_refine(*c.mesh, c.loop, c.levels, c.limit, &osd);
     speed.add({c.name, std::to_string(faces), fmt(ours_1t), fmt(peer),
@@ -294,9 +282,9 @@ int main(int argc, char** argv) {
       o.levels = k;
       o.parallel = false;
       SubdivideResult plain, pushed;
-      const double t_plain = cpu_min([&] { plain = subdivide(input, o); }, repeats);
+      const double t_plain = geom::bench::cpu_time_min([&] { plain = subdivide(input, o); }, repeats);
       o.limit = true;
-      const double t_limit = cpu_min([&] { pushed = subdivide(input, o); }, repeats);
+      const double t_limit = geom::bench::cpu_time_min([&] { pushed = subdivide(input, o); }, repeats);
       // The limit points of level k + 1 sample the limit surface inside level k's faces.
       o.levels = k + 1;
       const SubdivideResult finer = subdivide(input, o);
