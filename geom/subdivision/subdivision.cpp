@@ -238,7 +238,9 @@ void check_size(const Level& l, int levels, bool catmark) {
 /// The mesh's positions as rows of three doubles (Eigen's Vector3d has no padding).
 double* mesh_positions(SurfaceMesh& mesh) {
   static_assert(sizeof(Point) == 3 * sizeof(double));
-  return mesh.positions().vector().data()->data();
+  auto& points = mesh.positions().vector();
+  // An empty mesh has no first point to take the address of.
+  return points.empty() ? nullptr : points.front().data();
 }
 
 /// A mesh with the level's numbers of vertices, edges and faces and no links yet.
