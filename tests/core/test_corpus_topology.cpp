@@ -1,5 +1,5 @@
 // Every mesh of the shared corpus: analyze(soup) agrees with the independent count written
-// down in /work/shared/meshes/MANIFEST.md (copied into the table below by hand from that
+// down in ../shared/meshes/MANIFEST.md ($GEOM_DATA_DIR) (copied into the table below by hand from that
 // file, never computed with geom), and build() turns each one into a valid mesh whose own
 // analysis agrees again.
 
