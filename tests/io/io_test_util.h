@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 // Helpers shared by the io tests: reading from string literals and exact soup comparison.
 
 #include <geom/io/io.h>
@@ -10,6 +11,15 @@
 #include <string_view>
 
 namespace geom::test {
+
+/// Append v's bytes to s, big-endian when `big` (for hand-made binary files).
+template <class T>
+void put(std::string& s, T v, bool big) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (big) std::reverse(b, b + sizeof(T));
+  s.append(b, sizeof(T));
+}
 
 inline std::span<const std::byte> bytes(std::string_view s) {
   return {reinterpret_cast<const std::byte*>(s.data()), s.size()};

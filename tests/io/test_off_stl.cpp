@@ -10,16 +10,9 @@
 
 using namespace geom;
 using geom::test::parse;
+using geom::test::put;
 
 namespace {
-
-template <class T>
-void put(std::string& s, T v, bool big) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  if (big) std::reverse(b, b + sizeof(T));
-  s.append(b, sizeof(T));
-}
 
 std::string binary_off(bool big, bool colour_counts) {
   std::string s = "OFF BINARY\n";

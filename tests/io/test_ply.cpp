@@ -15,16 +15,9 @@
 
 using namespace geom;
 using geom::test::parse;
+using geom::test::put;
 
 namespace {
-
-template <class T>
-void put(std::string& s, T v, bool big) {
-  char b[sizeof(T)];
-  std::memcpy(b, &v, sizeof(T));
-  if (big) std::reverse(b, b + sizeof(T));
-  s.append(b, sizeof(T));
-}
 
 /// One triangle with every scalar type used somewhere, plus an edge element and a face
 /// list property that must both be skipped.
