@@ -86,11 +86,19 @@ class Table {
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     std::ofstream f(path);
     auto line = [&](const std::vector<std::string>& r) {
-      for (std::size_t c = 0; c < r.size(); ++c) f << (c ? "," : "") << r[c];
+      for (std::size_t c = 0; c < r.size(); ++c) f << (c ? "," : "") << csv_field(r[c]);
       f << '\n';
     };
     line(columns_);
     for (const auto& r : rows_) line(r);
+  }
+
+  /// RFC 4180 quoting, because labels such as "geom (double, binned SAH)" hold commas.
+  static std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return q + "\"";
   }
 
  private:
