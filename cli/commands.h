@@ -58,6 +58,7 @@ void add_simplify_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_lod_command(CLI::App& app);
 void add_progressive_command(CLI::App& app);
+void add_batch_command(CLI::App& app);
 void add_progressive_extract_command(CLI::App& app);
 
 void add_delaunay_command(CLI::App& app);

@@ -36,6 +36,7 @@ constexpr AddCommand kCommands[] = {
     geom::cli::add_subdivide_command,
     geom::cli::add_compress_command,
     geom::cli::add_decompress_command,
+    geom::cli::add_batch_command,
 };
 
 constexpr int kExitFailure = 1;

@@ -23,41 +23,11 @@ void add_validate_command(CLI::App& app) {
       "closed and consistently oriented; exit 1 listing why not",
       [args] {
         if (args->all) args->manifold = args->closed = args->oriented = true;
-        BuildOptions no_changes;
-        no_changes.orient = false;
-        Loaded loaded = load_input(args->input, args->common, no_changes);
-        const TopologyReport t = analyze(loaded.soup);
-        const ValidationReport structure = validate(loaded.mesh);
-        const BuildReport& r = loaded.report;
-
-        std::vector<std::string> failures;
-        for (const auto& p : structure.problems) failures.push_back("invalid mesh: " + p);
-        if (args->manifold && !t.manifold) {
-          std::string why = "not manifold:";
-          if (t.nonmanifold_edges) why += " " + std::to_string(t.nonmanifold_edges) +
-                                          " edges with 3 or more faces;";
-          if (t.nonmanifold_vertices) why += " " + std::to_string(t.nonmanifold_vertices) +
-                                             " non-manifold vertices;";
-          if (t.degenerate_faces) why += " " + std::to_string(t.degenerate_faces) +
-                                         " degenerate faces;";
-          if (why.back() == ';') why.pop_back();
-          failures.push_back(why);
-        }
-        if (args->closed && !t.closed)
-          failures.push_back("not closed: " + std::to_string(t.boundary_loops) +
-                             " boundary loops (" + std::to_string(t.boundary_edges) +
-                             " boundary edges)");
-        if (args->oriented) {
-          // build() with orient=false still detects faces that disagree with their
-          // neighbours; it reports them as the flips it would make.
-          BuildOptions orient;
-          const BuildReport o = build(loaded.soup, orient).report;
-          if (!o.orientable || !t.orientable)
-            failures.push_back("not orientable: some component is a one-sided surface");
-          else if (o.flipped_faces)
-            failures.push_back("not consistently oriented: " + std::to_string(o.flipped_faces) +
-                               " faces disagree with their neighbours");
-        }
+        const Requirements required{args->manifold, args->closed, args->oriented};
+        const RequirementCheck check = check_requirements(read_input(args->input, args->common), required);
+        const TopologyReport& t = check.topology;
+        const BuildReport& r = check.repairs;
+        const std::vector<std::string>& failures = check.failures;
 
         nlohmann::json j = {{"file", args->input},
                             {"ok", failures.empty()},

@@ -121,4 +121,39 @@ ValidationReport validate(const SurfaceMesh& mesh, std::size_t max_problems) {
   return out.report;
 }
 
+RequirementCheck check_requirements(const PolygonSoup& soup, const Requirements& required) {
+  BuildOptions no_changes;
+  no_changes.orient = false;
+  BuildResult built = build(soup, no_changes);
+  RequirementCheck check{analyze(soup), std::move(built.report), {}};
+  const TopologyReport& t = check.topology;
+  auto& failures = check.failures;
+  for (const auto& p : validate(built.mesh).problems) failures.push_back("invalid mesh: " + p);
+  if (required.manifold && !t.manifold) {
+    std::string why = "not manifold:";
+    auto add = [&why](std::size_t n, const char* what) {
+      if (n) why += " " + std::to_string(n) + what;
+    };
+    add(t.nonmanifold_edges, " edges with 3 or more faces;");
+    add(t.nonmanifold_vertices, " non-manifold vertices;");
+    add(t.degenerate_faces, " degenerate faces;");
+    if (why.back() == ';') why.pop_back();
+    failures.push_back(why);
+  }
+  if (required.closed && !t.closed)
+    failures.push_back("not closed: " + std::to_string(t.boundary_loops) + " boundary loops (" +
+                       std::to_string(t.boundary_edges) + " boundary edges)");
+  if (required.oriented) {
+    // build() with orient=false still detects faces that disagree with their neighbours; a
+    // build that may orient reports them as the flips it makes.
+    const BuildReport o = build(soup, BuildOptions{}).report;
+    if (!o.orientable || !t.orientable)
+      failures.push_back("not orientable: some component is a one-sided surface");
+    else if (o.flipped_faces)
+      failures.push_back("not consistently oriented: " + std::to_string(o.flipped_faces) +
+                         " faces disagree with their neighbours");
+  }
+  return check;
+}
+
 }  // namespace geom

@@ -2,7 +2,10 @@
 /// \file
 /// Structural checks of a SurfaceMesh's half-edge invariants.
 
+#include <geom/core/build.h>
+#include <geom/core/soup.h>
 #include <geom/core/surface_mesh.h>
+#include <geom/core/topology.h>
 
 #include <string>
 #include <vector>
@@ -24,5 +27,22 @@ struct ValidationReport {
 /// max_problems.
 /// Complexity: O(V + E + F).
 ValidationReport validate(const SurfaceMesh& mesh, std::size_t max_problems = 100);
+
+/// Properties a file's mesh may be required to have (`geom validate --manifold …`).
+struct Requirements {
+  bool manifold = false, closed = false, oriented = false;
+};
+
+struct RequirementCheck {
+  TopologyReport topology;  ///< the soup as given
+  BuildReport repairs;      ///< what build() would change (orientation left alone)
+  /// One line per failure ("not closed: 2 boundary loops (14 boundary edges)"); empty: pass.
+  std::vector<std::string> failures;
+};
+
+/// Whether `soup` builds into a valid mesh with the required properties, judged on the soup
+/// as given (before repairs). What `geom validate` and the batch "validate" step decide.
+/// Complexity: O(V + C·d), two builds and one analysis of the soup.
+RequirementCheck check_requirements(const PolygonSoup& soup, const Requirements& required);
 
 }  // namespace geom

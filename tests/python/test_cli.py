@@ -9,7 +9,7 @@ import pytest
 from conftest import CORPUS, SAMPLE
 
 # The foundation's subcommands; every subcommand `geom --help` lists gets its --help checked too.
-COMMANDS = ["info", "convert", "validate", "repair", "tour"]
+COMMANDS = ["info", "convert", "validate", "repair", "tour", "batch"]
 
 SAMPLE_COUNTS = {"vertices": 1536, "edges": 3168, "faces": 1632, "boundary_loops": 0,
                  "components": 1, "euler_characteristic": 0, "genus": 1}

@@ -1,0 +1,298 @@
+#include <geom/batch/batch.h>
+
+#include <geom/core/errors.h>
+#include <geom/core/soup.h>
+#include <geom/core/validate.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <unistd.h>
+
+namespace geom::batch {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kPartialMarker = ".geom-partial-";
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The temporary sits beside the output so the rename stays within one file system (atomic).
+// pid and a counter keep concurrent writers (threads, Dask worker processes) apart.
+void write_atomically(const fs::path& path, std::span<const std::uint8_t> bytes) {
+  static std::atomic<unsigned> counter{0};
+  fs::create_directories(path.parent_path());
+  const fs::path temp = path.parent_path() / ("." + path.filename().string() + kPartialMarker +
+                                              std::to_string(::getpid()) + "-" +
+                                              std::to_string(counter++));
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  if (!f) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if (std::fclose(f) != 0 || !written) {
+    fs::remove(temp);
+    throw Error(path.string() + ": cannot write (disk full?)");
+  }
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) {
+    fs::remove(temp);
+    throw Error(path.string() + ": cannot rename into place: " + ec.message());
+  }
+}
+
+bool up_to_date(const Task& t) {
+  std::error_code ec;
+  const auto out = fs::last_write_time(t.output, ec);
+  if (ec) return false;
+  return out >= fs::last_write_time(t.input, ec) && !ec;
+}
+
+MeshCounts counts(const SurfaceMesh& m) { return {m.n_vertices(), m.n_faces()}; }
+
+// The mesh flowing through the steps, and what the last step decided about the output.
+struct State {
+  PolygonSoup soup;  // the input as read; kept only while a first "validate" needs it
+  SurfaceMesh mesh;
+  std::vector<std::uint8_t> compressed;
+  bool is_compressed = false;
+  WriteOptions write;
+};
+
+void apply(const Step& step, bool first, State& s) {
+  std::visit(
+      [&](const auto& o) {
+        using T = std::decay_t<decltype(o)>;
+        if constexpr (std::is_same_v<T, ValidateStep>) {
+          const RequirementCheck c = check_requirements(first ? s.soup : to_soup(s.mesh),
+                                                        {o.manifold, o.closed, o.oriented});
+          if (!c.failures.empty()) {
+            std::string why;
+            for (const auto& f : c.failures) why += (why.empty() ? "" : "; ") + f;
+            throw Error("validate: " + why);
+          }
+        } else if constexpr (std::is_same_v<T, RepairStep>) {
+          if (!first) s.mesh = build(to_soup(s.mesh), o.options).mesh;  // first: done on read
+        } else if constexpr (std::is_same_v<T, SimplifyStep>) {
+          s.mesh = simplify(s.mesh, o.options).mesh;
+        } else if constexpr (std::is_same_v<T, SubdivideStep>) {
+          s.mesh = subdivide(s.mesh, o.options).mesh;
+        } else if constexpr (std::is_same_v<T, CompressStep>) {
+          s.compressed = compress(s.mesh, o.options).bytes;
+          s.is_compressed = true;
+        } else if constexpr (std::is_same_v<T, ConvertStep>) {
+          s.write.format = o.format;
+          s.write.binary = !o.ascii;
+        }
+      },
+      step.options);
+}
+
+// Reading builds the mesh with the first step's repair options when it is a repair, so that
+// step costs no second build; otherwise with build()'s defaults (which drop what cannot be
+// a mesh and report it, as every reader of geom does).
+void read(const Pipeline& p, const Task& task, State& s, Record& r) {
+  s.soup = read_soup(task.input);
+  r.before = {s.soup.positions.size(), s.soup.n_faces()};
+  const auto* repair = std::get_if<RepairStep>(&p.steps.front().options);
+  BuildResult built = build(s.soup, repair ? repair->options : BuildOptions{});
+  s.mesh = std::move(built.mesh);
+  const BuildReport& b = built.report;
+  r.repairs = b.welded_vertices + b.dropped_out_of_range + b.dropped_degenerate +
+              b.dropped_duplicate + b.split_nonmanifold_edges + b.split_nonmanifold_vertices +
+              b.flipped_faces + b.collapsed_corners + b.cut_edges + b.detached_faces +
+              b.dropped_unreferenced;
+  if (!std::holds_alternative<ValidateStep>(p.steps.front().options)) s.soup = {};
+  s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
+}
+
+void write(const Task& task, State& s, Record& r) {
+  if (!s.is_compressed) {
+    const std::vector<std::byte> bytes = write_soup(to_soup(s.mesh), *s.write.format, s.write);
+    s.compressed.assign(reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                        reinterpret_cast<const std::uint8_t*>(bytes.data()) + bytes.size());
+  }
+  write_atomically(task.output, s.compressed);
+  r.after = counts(s.mesh);
+  r.output_bytes = s.compressed.size();
+}
+
+template <class F>
+void timed(Record& r, const std::string& name, F&& f) {
+  const auto t0 = Clock::now();
+  f();
+  r.steps.push_back({name, seconds_since(t0)});
+}
+
+}  // namespace
+
+std::string Record::to_json() const {
+  nlohmann::json j = {{"input", input}, {"output", output}, {"status", status}};
+  if (status == "ok") {
+    j["before"] = {{"vertices", before.vertices}, {"faces", before.faces}};
+    j["after"] = {{"vertices", after.vertices}, {"faces", after.faces}};
+    j["repairs"] = repairs;
+    j["bytes"] = output_bytes;
+  }
+  if (!error.empty()) j["error"] = error;
+  j["steps"] = nlohmann::json::array();
+  for (const auto& s : steps) j["steps"].push_back({{"step", s.step}, {"seconds", s.seconds}});
+  j["seconds"] = seconds;
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+const std::vector<std::string>& mesh_extensions() {
+  static const std::vector<std::string> exts = {".obj", ".ply",  ".off", ".stl",
+                                                ".drc", ".gltf", ".glb"};
+  return exts;
+}
+
+std::vector<fs::path> find_meshes(const fs::path& dir, const fs::path& exclude) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(dir.string() + ": not a folder");
+  const fs::path skip = exclude.empty() ? fs::path() : fs::weakly_canonical(exclude);
+  std::vector<fs::path> found;
+  const auto& exts = mesh_extensions();
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::end(it);
+       it.increment(ec)) {
+    const fs::path& p = it->path();
+    const bool hidden = p.filename().string().starts_with(".");
+    if (it->is_directory() && (hidden || (!skip.empty() && fs::weakly_canonical(p) == skip))) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (hidden || !it->is_regular_file()) continue;
+    if (std::find(exts.begin(), exts.end(), lower(p.extension().string())) != exts.end())
+      found.push_back(p);
+  }
+  if (ec) throw Error(dir.string() + ": cannot list: " + ec.message());
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+std::vector<Task> plan(const Pipeline& pipeline, const fs::path& in_root,
+                       std::span<const fs::path> inputs, const fs::path& out_root) {
+  if (fs::weakly_canonical(in_root) == fs::weakly_canonical(out_root))
+    throw InvalidArgument(out_root.string() + ": the output folder is the input folder");
+  // Lexical, not canonical: an input that is a symbolic link keeps its place in the tree.
+  const fs::path in = fs::absolute(in_root).lexically_normal();
+  const fs::path out = fs::absolute(out_root).lexically_normal();
+  std::vector<Task> tasks;
+  std::map<fs::path, int> uses;
+  for (const fs::path& input : inputs) {
+    const fs::path rel = fs::absolute(input).lexically_normal().lexically_relative(in);
+    if (rel.empty() || *rel.begin() == "..")
+      throw InvalidArgument(input.string() + ": not under " + in_root.string());
+    fs::path out_rel = rel;
+    out_rel.replace_extension(pipeline.output_extension(lower(rel.extension().string())));
+    tasks.push_back({input, out / out_rel, rel.generic_string(), out_rel.generic_string()});
+    ++uses[out_rel];
+  }
+  for (Task& t : tasks) {
+    if (uses[fs::path(t.output_name)] < 2) continue;
+    const fs::path rel(t.input_name);
+    fs::path out_rel = rel;
+    out_rel += pipeline.output_extension(lower(rel.extension().string()));
+    t.output = out / out_rel;
+    t.output_name = out_rel.generic_string();
+  }
+  return tasks;
+}
+
+Record process(const Pipeline& pipeline, const Task& task, ExistingOutput existing) {
+  Record r;
+  r.input = task.input_name;
+  r.output = task.output_name;
+  const auto t0 = Clock::now();
+  try {
+    std::error_code ec;
+    if (fs::exists(task.output, ec)) {
+      if (existing == ExistingOutput::kSkip && up_to_date(task)) {
+        r.status = "skipped";
+        return r;
+      }
+      if (existing == ExistingOutput::kFail)
+        throw Error(task.output.string() + ": output exists (resume or overwrite to reuse it)");
+    }
+    if (pipeline.steps.empty()) throw InvalidArgument("the pipeline has no steps");
+    State s;
+    timed(r, "read", [&] { read(pipeline, task, s, r); });
+    for (std::size_t i = 0; i < pipeline.steps.size(); ++i)
+      timed(r, pipeline.steps[i].text, [&] { apply(pipeline.steps[i], i == 0, s); });
+    timed(r, "write", [&] { write(task, s, r); });
+    r.status = "ok";
+  } catch (const std::bad_alloc&) {
+    r.status = "failed";
+    r.error = task.input.string() + ": out of memory";
+  } catch (const std::exception& e) {
+    r.status = "failed";
+    r.error = e.what();
+  }
+  r.seconds = seconds_since(t0);
+  return r;
+}
+
+std::size_t remove_partial_outputs(const fs::path& out_root) {
+  std::error_code ec;
+  if (!fs::is_directory(out_root, ec)) return 0;
+  std::vector<fs::path> partial;
+  for (auto it = fs::recursive_directory_iterator(out_root, ec); !ec && it != fs::end(it);
+       it.increment(ec))
+    if (it->is_regular_file() && it->path().filename().string().find(kPartialMarker) != std::string::npos)
+      partial.push_back(it->path());
+  for (const auto& p : partial) fs::remove(p, ec);
+  return partial.size();
+}
+
+Summary run(const Pipeline& pipeline, std::span<const Task> tasks, const RunOptions& options,
+            const std::function<void(const Record&)>& on_record) {
+  const auto t0 = Clock::now();
+  Summary summary;
+  summary.total = tasks.size();
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  auto worker = [&] {
+    for (;;) {
+      if (options.stop && options.stop->load()) return;
+      const std::size_t i = next++;
+      if (i >= tasks.size()) return;
+      const Record r = process(pipeline, tasks[i], options.existing);
+      const std::lock_guard lock(mutex);
+      if (r.status == "ok") {
+        ++summary.ok;
+        summary.faces_in += r.before.faces;
+        summary.faces_out += r.after.faces;
+      }
+      summary.failed += r.status == "failed";
+      summary.skipped += r.status == "skipped";
+      if (on_record) on_record(r);
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned jobs = std::min<std::size_t>(options.jobs ? options.jobs : hw,
+                                              std::max<std::size_t>(tasks.size(), 1));
+  std::vector<std::jthread> threads;
+  for (unsigned j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  threads.clear();  // joins
+  summary.seconds = seconds_since(t0);
+  summary.interrupted = summary.ok + summary.failed + summary.skipped < summary.total;
+  return summary;
+}
+
+}  // namespace geom::batch
