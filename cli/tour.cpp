@@ -34,6 +34,7 @@ constexpr NamedStep kTourSteps[] = {
     {"compress", tour_compress},
     {"compgeom", tour_compgeom},
     {"render", tour_render},
+    {"batch", tour_batch},
 };
 
 // The bundled sample: next to the sources in a build tree, in <prefix>/share/geom when

@@ -90,13 +90,14 @@ class TourContext {
 
 using TourStep = void (*)(TourContext&);
 
-void tour_core(TourContext& tour);
-void tour_compgeom(TourContext& tour);  // hull and Delaunay of the vertices (cli/tour_compgeom.cpp)
-void tour_lod(TourContext& tour);       // an LOD chain with measured error (cli/tour_lod.cpp)
-void tour_compress(TourContext& tour);  // the codec at several bit depths (cli/tour_compress.cpp)
-void tour_render(TourContext& tour);    // effects on demand: raster, shadows, mirror (cli/tour_render.cpp)  // info, validate, repair (cli/tour_core.cpp)
-void tour_io(TourContext& tour);    // every format, written and read back (cli/tour_io.cpp)
-void tour_isosurface(TourContext& tour);  // marching cubes of implicits (cli/tour_isosurface.cpp)
+void tour_core(TourContext& tour);         // info, validate, repair (cli/tour_core.cpp)
+void tour_io(TourContext& tour);           // every format, written and read back (cli/tour_io.cpp)
+void tour_isosurface(TourContext& tour);   // marching cubes of implicits (cli/tour_isosurface.cpp)
 void tour_subdivision(TourContext& tour);  // Catmull-Clark levels and limit (cli/tour_subdivision.cpp)
+void tour_lod(TourContext& tour);          // an LOD chain with measured error (cli/tour_lod.cpp)
+void tour_compress(TourContext& tour);     // the codec at several bit depths (cli/tour_compress.cpp)
+void tour_compgeom(TourContext& tour);     // hull and Delaunay of the vertices (cli/tour_compgeom.cpp)
+void tour_render(TourContext& tour);       // effects on demand: raster, shadows, mirror (cli/tour_render.cpp)
+void tour_batch(TourContext& tour);        // five formats and a broken file, one pipeline (cli/tour_batch.cpp)
 
 }  // namespace geom::cli
