@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <unistd.h>
 
 namespace geom::batch {
@@ -35,7 +36,7 @@ std::string lower(std::string s) {
 
 // The temporary sits beside the output so the rename stays within one file system (atomic).
 // pid and a counter keep concurrent writers (threads, Dask worker processes) apart.
-void write_atomically(const fs::path& path, std::span<const std::uint8_t> bytes) {
+void write_atomically(const fs::path& path, std::span<const std::byte> bytes) {
   static std::atomic<unsigned> counter{0};
   fs::create_directories(path.parent_path());
   const fs::path temp = path.parent_path() / ("." + path.filename().string() + kPartialMarker +
@@ -69,7 +70,7 @@ MeshCounts counts(const SurfaceMesh& m) { return {m.n_vertices(), m.n_faces()}; 
 struct State {
   PolygonSoup soup;  // the input as read; kept only while a first "validate" needs it
   SurfaceMesh mesh;
-  std::vector<std::uint8_t> compressed;
+  std::vector<std::uint8_t> compressed;  // set by a compress step
   bool is_compressed = false;
   WriteOptions write;
 };
@@ -122,14 +123,12 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
 }
 
 void write(const Task& task, State& s, Record& r) {
-  if (!s.is_compressed) {
-    const std::vector<std::byte> bytes = write_soup(to_soup(s.mesh), *s.write.format, s.write);
-    s.compressed.assign(reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                        reinterpret_cast<const std::uint8_t*>(bytes.data()) + bytes.size());
-  }
-  write_atomically(task.output, s.compressed);
+  std::vector<std::byte> file;
+  if (!s.is_compressed) file = write_soup(to_soup(s.mesh), *s.write.format, s.write);
+  const auto bytes = s.is_compressed ? std::as_bytes(std::span(s.compressed)) : std::span(std::as_const(file));
+  write_atomically(task.output, bytes);
   r.after = counts(s.mesh);
-  r.output_bytes = s.compressed.size();
+  r.output_bytes = bytes.size();
 }
 
 template <class F>
