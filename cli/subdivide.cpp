@@ -17,6 +17,7 @@ void add_subdivide_command(CLI::App& app) {
     std::string scheme = "catmull-clark";
     std::optional<std::string> boundary;
     std::string crease_method = "uniform";
+    std::string uv = "linear";
     SubdivideOptions options;
     double crease_angle = -1.0;
     CommonOptions common;
@@ -35,6 +36,8 @@ void add_subdivide_command(CLI::App& app) {
                                           : SubdivisionScheme::kCatmullClark;
         o.crease_method = args->crease_method == "chaikin" ? CreaseMethod::kChaikin
                                                            : CreaseMethod::kUniform;
+        o.face_varying = args->uv == "smooth" ? FaceVaryingInterpolation::kLinearBoundaries
+                                              : FaceVaryingInterpolation::kLinearAll;
         if (args->crease_angle >= 0.0) o.crease_angle = args->crease_angle;
         Loaded loaded = load_input(args->input, args->common);
         // The file's "t interpolateboundary" tag (RenderMan values: 0 none, 1 edges and
@@ -94,6 +97,10 @@ void add_subdivide_command(CLI::App& app) {
       ->check(CLI::IsMember({"none", "edges", "corners"}));
   cmd->add_option("--crease-method", args->crease_method, "uniform (default) or chaikin")
       ->check(CLI::IsMember({"uniform", "chaikin"}));
+  cmd->add_option("--uv", args->uv,
+                  "Texture coordinates (corner data): linear (default), or smooth inside each "
+                  "UV island and linear along seams (OpenSubdiv FVAR_LINEAR_BOUNDARIES)")
+      ->check(CLI::IsMember({"linear", "smooth"}));
   cmd->add_flag("--limit", args->options.limit, "Push the final vertices onto the limit surface");
   cmd->add_option("--crease-angle", args->crease_angle,
                   "Make edges with a dihedral angle above DEG degrees infinitely sharp")

@@ -109,6 +109,18 @@ void bind_subdivision(py::module_& m) {
               throw InvalidArgument("crease_method: expected 'uniform' or 'chaikin', got '" + s + "'");
             o.crease_method = s == "chaikin" ? CreaseMethod::kChaikin : CreaseMethod::kUniform;
           })
+      .def_property(
+          "face_varying",
+          [](const SubdivideOptions& o) {
+            return o.face_varying == FaceVaryingInterpolation::kLinearBoundaries ? "smooth"
+                                                                                 : "linear";
+          },
+          [](SubdivideOptions& o, const std::string& s) {
+            if (s != "linear" && s != "smooth")
+              throw InvalidArgument("face_varying: expected 'linear' or 'smooth', got '" + s + "'");
+            o.face_varying = s == "smooth" ? FaceVaryingInterpolation::kLinearBoundaries
+                                           : FaceVaryingInterpolation::kLinearAll;
+          })
       .def_readwrite("limit", &SubdivideOptions::limit)
       .def_readwrite("crease_angle", &SubdivideOptions::crease_angle)
       .def_readwrite("parallel", &SubdivideOptions::parallel);

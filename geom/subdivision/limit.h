@@ -16,10 +16,11 @@
 namespace geom::detail::subdiv {
 
 /// Limit positions of the vertices of `l` for data of width w (row-major), and unit limit
-/// normals (3 per vertex) from the first three columns when `normals` is non-null. Normals
-/// of smooth vertices come from the limit tangent masks; at crease and corner vertices they
-/// are the area-weighted normals of the adjacent faces through the limit points. Catmull-
-/// Clark masks take the corner two steps after the vertex in each face as its opposite.
+/// normals (3 per vertex) from the first three columns when `normals` is non-null: the
+/// cross product of OpenSubdiv's limit tangent masks for the vertex's rule (smooth, crease
+/// across the faces after its leading sharp edge, corner along its first face), oriented as
+/// the faces are. Catmull-Clark masks take the corner two steps after the vertex in each
+/// face as its opposite.
 void limit_points(const Level& l, const double* src, double* dst, int w, double* normals,
                   const Context& ctx);
 

@@ -6,6 +6,7 @@
 #include <geom/core/errors.h>
 #include <geom/core/soup.h>
 #include <geom/subdivision/creases.h>
+#include <geom/subdivision/face_varying.h>
 #include <geom/subdivision/level.h>
 #include <geom/subdivision/limit.h>
 
@@ -312,6 +313,9 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
 
   ctx.parent_faces = face_props;
   const bool positions_only = vdata.entries.size() == 1;
+  // Smooth face-varying data is refined at the end, through the mesh cut along its seams.
+  const bool smooth_fvar = hdata.width > 0 && options.levels > 0 &&
+                           options.face_varying == FaceVaryingInterpolation::kLinearBoundaries;
   for (int level = 1; level <= options.levels; ++level) {
     ctx.last = level == options.levels;
     Level child;
@@ -338,7 +342,7 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
     else
       interpolate_loop(cur, child, vdata.data.data(), vdst, vdata.width, ctx);
     vdata.data.swap(vnext);
-    if (hdata.width > 0) {
+    if (hdata.width > 0 && !smooth_fvar) {
       detail::subdiv::Array<double> hnext(2 * static_cast<std::size_t>(child.ne) * hdata.width, 0.0);
       if (catmark)
         interpolate_fvar_catmark(cur, hdata.data.data(), hnext.data(), hdata.width, ctx);
@@ -388,6 +392,11 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
   }
 
   if (options.levels == 0 && !options.limit) result.mesh = to_mesh(cur);
+  if (smooth_fvar) {
+    const std::vector<double> rows = detail::subdiv::refine_face_varying_smooth(
+        *mesh, hdata.data.data(), hdata.width, options, result.mesh);
+    hdata.data.assign(rows.begin(), rows.end());
+  }
   if (!vertex_data_in_mesh) scatter_channels<Vertex>(vdata, result.mesh, cur.nv);
   scatter_channels<Halfedge>(hdata, result.mesh, 2 * static_cast<std::size_t>(cur.ne));
   if (face_props) {

@@ -2,11 +2,11 @@
 /// \file
 /// Uniform subdivision surfaces: Catmull-Clark on any polygon mesh and Loop on triangle
 /// meshes, with OpenSubdiv's boundary interpolation modes, semi-sharp and infinitely sharp
-/// creases and corners, linear face-varying data, and limit positions. The numbers are
-/// OpenSubdiv's (Far::TopologyRefiner + PrimvarRefiner), vertex for vertex: the refined
-/// mesh lists child vertices as face-points, edge-points, then vertex-points, each group in
-/// its parent's index order, and the child faces of parent face f (in order, one per corner,
-/// plus Loop's middle triangle last) follow those of face f - 1.
+/// creases and corners, linear or smooth face-varying data, and limit positions. The
+/// numbers are OpenSubdiv's (Far::TopologyRefiner + PrimvarRefiner), vertex for vertex: the
+/// refined mesh lists child vertices as face-points, edge-points, then vertex-points, each
+/// group in its parent's index order, and the child faces of parent face f (in order, one
+/// per corner, plus Loop's middle triangle last) follow those of face f - 1.
 ///
 /// Creases are mesh properties: edge property "e:sharpness" and vertex property
 /// "v:sharpness" (double; prop::kEdgeSharpness / prop::kVertexSharpness in core/soup.h).
@@ -52,12 +52,25 @@ enum class CreaseMethod {
   kChaikin,  ///< a child edge's sharpness also averages its sharp neighbours'
 };
 
+/// OpenSubdiv's Sdc::Options::FVarLinearInterpolation, for face-varying (halfedge) data
+/// such as texture coordinates with seams.
+enum class FaceVaryingInterpolation {
+  kLinearAll,         ///< FVAR_LINEAR_ALL: bilinear everywhere (OpenSubdiv's bare default)
+  kLinearBoundaries,  ///< FVAR_LINEAR_BOUNDARIES: smooth inside each UV island, creases
+                      ///< included; linear along seams and boundaries, whose vertices stay
+};
+
 struct SubdivideOptions {
   SubdivisionScheme scheme = SubdivisionScheme::kCatmullClark;
   /// Uniform refinement levels (0 returns a copy, or its limit when `limit` is set).
   int levels = 1;
   BoundaryInterpolation boundary = BoundaryInterpolation::kEdges;
   CreaseMethod crease_method = CreaseMethod::kUniform;
+  /// How halfedge (corner) data is refined. Corners of a vertex with equal values are one
+  /// value; a seam is an edge whose two faces disagree at either end. kLinearBoundaries
+  /// with the Chaikin crease method can differ from OpenSubdiv where a semi-sharp edge
+  /// ends at a seam vertex (geom averages only the edges of the vertex's UV island).
+  FaceVaryingInterpolation face_varying = FaceVaryingInterpolation::kLinearAll;
   /// Move the final vertices onto the limit surface (OpenSubdiv's PrimvarRefiner::Limit).
   /// For Catmull-Clark with levels = 0 every face must be a quad.
   bool limit = false;
@@ -91,7 +104,8 @@ struct SubdivideResult {
 /// Refine `mesh` uniformly. Every vertex property of type double, float or an Eigen
 /// 2/3/4-vector of double or float is refined with the vertex weights (positions, colours,
 /// normals as data, ...); halfedge (corner) properties of those types, such as
-/// "h:texcoord", are refined as linear face-varying data (OpenSubdiv FVAR_LINEAR_ALL); face
+/// "h:texcoord", are refined as face-varying data by options.face_varying (not moved to
+/// the limit by options.limit); face
 /// properties are copied from parent to child faces; "e:sharpness" / "v:sharpness" carry
 /// the decayed sharpness of the final level when the input had them. Other properties are
 /// dropped. Isolated vertices are kept in place.
@@ -115,7 +129,10 @@ struct LimitResult {
   /// One per live vertex in index order (a mesh with deleted elements is compacted first);
   /// isolated vertices keep their position.
   std::vector<Point> positions;
-  std::vector<Normal> normals;   ///< when asked; zero where the tangents are degenerate
+  /// When asked: OpenSubdiv's limit tangents crossed (PrimvarRefiner::Limit with tan1,
+  /// tan2), oriented as the faces; at an interior crease vertex the normal of the side its
+  /// first face (lowest index) is on, as OpenSubdiv picks it; zero where degenerate.
+  std::vector<Normal> normals;
   double max_distance = 0.0;     ///< largest |limit − vertex|
   double rms_distance = 0.0;
 };

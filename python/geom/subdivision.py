@@ -18,7 +18,10 @@ def subdivide(mesh, creases=None, corners=None, **options):
     Options (SubdivideOptions fields): ``scheme`` ('catmull-clark', the default, or 'loop',
     which needs triangles), ``levels`` (default 1, 0 to 10), ``boundary`` ('edges', the
     default, 'corners' to keep one-face corners in place, or 'none'), ``crease_method``
-    ('uniform' or 'chaikin'), ``limit`` (push the final vertices onto the limit surface),
+    ('uniform' or 'chaikin'), ``face_varying`` (texture coordinates and other corner data:
+    'linear', the default, or 'smooth' inside each UV island and linear along seams, as
+    OpenSubdiv's FVAR_LINEAR_BOUNDARIES), ``limit`` (push the final vertices onto the limit
+    surface),
     ``crease_angle`` (degrees: sharper dihedral angles become infinitely sharp creases),
     ``parallel`` (default True).
 

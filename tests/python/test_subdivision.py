@@ -76,3 +76,52 @@ def test_cli_subdivide(run, tmp_path):
     assert run("subdivide", SAMPLE, "-o", tmp_path / "x.obj", "--scheme", "butterfly").returncode == 2
     assert run("subdivide", SAMPLE, "-o", tmp_path / "x.obj", "--levels", "11").returncode == 2
     assert run("subdivide", tmp_path / "missing.obj", "-o", tmp_path / "y.obj").returncode == 1
+
+
+def _write_uv_cube(path):
+    """The cube with one UV per vertex, an affine function of its position (no seams)."""
+    uv = lambda p: (0.5 * p[0] + 0.25 * p[1] + 0.1, p[2] - 0.3 * p[0])
+    lines = [f"v {x} {y} {z}" for x, y, z in CUBE_V]
+    lines += ["vt %.17g %.17g" % uv(p) for p in CUBE_V]
+    lines += ["f " + " ".join(f"{i + 1}/{i + 1}" for i in face) for face in CUBE_F]
+    path.write_text("\n".join(lines) + "\n")
+    return uv
+
+
+def _corner_uv_error(path, uv):
+    """Largest |vt - uv(v)| over the face corners of an OBJ file."""
+    v, vt, worst = [], [], 0.0
+    for line in path.read_text().splitlines():
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == "v":
+            v.append([float(x) for x in w[1:4]])
+        elif w[0] == "vt":
+            vt.append([float(x) for x in w[1:3]])
+        elif w[0] == "f":
+            for corner in w[1:]:
+                i, t = (int(x) - 1 for x in corner.split("/")[:2])
+                worst = max(worst, float(np.linalg.norm(np.subtract(vt[t], uv(v[i])))))
+    assert vt, "no texture coordinates written"
+    return worst
+
+
+def test_smooth_face_varying_uvs_follow_the_vertices(run, tmp_path):
+    # Subdivision is affine-invariant: seamless UVs that are an affine function of position
+    # stay that function of the refined positions when refined smoothly, not when linearly.
+    src = tmp_path / "uv_cube.obj"
+    uv = _write_uv_cube(src)
+    smooth, linear = tmp_path / "smooth.obj", tmp_path / "linear.obj"
+    assert run("subdivide", src, "-o", smooth, "--levels", "2", "--uv", "smooth").returncode == 0
+    assert run("subdivide", src, "-o", linear, "--levels", "2").returncode == 0
+    assert _corner_uv_error(smooth, uv) < 1e-12
+    assert _corner_uv_error(linear, uv) > 1e-3
+    assert run("subdivide", src, "-o", linear, "--uv", "cubic").returncode == 2
+
+    r = geom.subdivide(geom.load(str(src)), levels=2, face_varying="smooth")
+    out = tmp_path / "py.obj"
+    geom.save(r.mesh, str(out))
+    assert _corner_uv_error(out, uv) < 1e-12
+    with pytest.raises(ValueError):
+        geom.subdivide(cube(), face_varying="cubic")

@@ -23,6 +23,7 @@ struct OsdParams {
   SubdivisionScheme scheme = SubdivisionScheme::kCatmullClark;
   BoundaryInterpolation boundary = BoundaryInterpolation::kEdges;
   CreaseMethod crease_method = CreaseMethod::kUniform;
+  FaceVaryingInterpolation face_varying = FaceVaryingInterpolation::kLinearAll;
   int levels = 1;
 };
 
@@ -135,7 +136,10 @@ inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
   options.SetCreasingMethod(params.crease_method == CreaseMethod::kChaikin
                                 ? Sdc::Options::CREASE_CHAIKIN
                                 : Sdc::Options::CREASE_UNIFORM);
-  options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+  options.SetFVarLinearInterpolation(
+      params.face_varying == FaceVaryingInterpolation::kLinearBoundaries
+          ? Sdc::Options::FVAR_LINEAR_BOUNDARIES
+          : Sdc::Options::FVAR_LINEAR_ALL);
   const Sdc::SchemeType type = params.scheme == SubdivisionScheme::kLoop ? Sdc::SCHEME_LOOP
                                                                         : Sdc::SCHEME_CATMARK;
   std::unique_ptr<Far::TopologyRefiner> refiner(Far::TopologyRefinerFactory<Descriptor>::Create(
@@ -189,8 +193,10 @@ inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
 }
 
 /// Unit limit normals (tan1 × tan2 from PrimvarRefiner::Limit) of the vertices of `mesh`
-/// taken as a control mesh without refinement.
-inline std::vector<Eigen::Vector3d> osd_limit_normals(const SurfaceMesh& mesh, SubdivisionScheme scheme) {
+/// taken as a control mesh without refinement, with its "e:sharpness"/"v:sharpness".
+inline std::vector<Eigen::Vector3d> osd_limit_normals(
+    const SurfaceMesh& mesh, SubdivisionScheme scheme,
+    BoundaryInterpolation boundary = BoundaryInterpolation::kEdges) {
   using namespace OpenSubdiv;
   using osd_detail::Vec3;
   std::vector<int> counts, indices;
@@ -202,13 +208,36 @@ inline std::vector<Eigen::Vector3d> osd_limit_normals(const SurfaceMesh& mesh, S
     }
     counts.push_back(n);
   }
+  std::vector<int> crease_pairs, corner_ids;
+  std::vector<float> crease_weights, corner_weights;
+  if (auto es = mesh.get_property<Edge, double>(prop::kEdgeSharpness))
+    for (Edge e : mesh.edges())
+      if (es[e] > 0.0) {
+        crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 1).idx()));
+        crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 0).idx()));
+        crease_weights.push_back(static_cast<float>(es[e]));
+      }
+  if (auto vs = mesh.get_property<Vertex, double>(prop::kVertexSharpness))
+    for (Vertex v : mesh.vertices())
+      if (vs[v] > 0.0) {
+        corner_ids.push_back(static_cast<int>(v.idx()));
+        corner_weights.push_back(static_cast<float>(vs[v]));
+      }
   Far::TopologyDescriptor desc;
   desc.numVertices = static_cast<int>(mesh.vertices_size());
   desc.numFaces = static_cast<int>(counts.size());
   desc.numVertsPerFace = counts.data();
   desc.vertIndicesPerFace = indices.data();
+  desc.numCreases = static_cast<int>(crease_weights.size());
+  desc.creaseVertexIndexPairs = crease_pairs.data();
+  desc.creaseWeights = crease_weights.data();
+  desc.numCorners = static_cast<int>(corner_weights.size());
+  desc.cornerVertexIndices = corner_ids.data();
+  desc.cornerWeights = corner_weights.data();
   Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  options.SetVtxBoundaryInterpolation(boundary == BoundaryInterpolation::kEdgesAndCorners
+                                          ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                          : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
       desc, Factory::Options(scheme == SubdivisionScheme::kLoop ? Sdc::SCHEME_LOOP

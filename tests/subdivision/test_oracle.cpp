@@ -44,6 +44,7 @@ void expect_matches_osd(const SurfaceMesh& input, const OsdParams& params,
     o.levels = k;
     o.boundary = params.boundary;
     o.crease_method = params.crease_method;
+    o.face_varying = params.face_varying;
     const SubdivideResult r = subdivide(input, o);
     ASSERT_TRUE(validate(r.mesh).ok()) << validate(r.mesh).to_string();
     ASSERT_EQ(r.mesh.n_vertices(), osd.positions[k].size());
@@ -187,6 +188,52 @@ TEST(FaceVarying, LinearUVsMatchOpenSubdivWithSeams) {
   expect_matches_osd(t, loop(2), "icosahedron uv");
 }
 
+/// UVs that vary smoothly with position, except on the faces `island` picks, which get
+/// their own island (shifted values): the edges around those faces become seams.
+template <class Pick>
+void set_uv_islands(SurfaceMesh& m, Pick island) {
+  auto uv = m.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord, TexCoord::Zero());
+  for (Face f : m.faces())
+    for (Halfedge h : m.halfedges(f)) {
+      const Point& p = m.position(m.to_vertex(h));
+      uv[h] = TexCoord(0.5 * p.x() + 0.3 * p.y() - 0.1 * p.z(), 0.2 * p.x() - 0.4 * p.z() + 0.05 * p.y());
+      if (island(f)) uv[h] += TexCoord(3.0 + 0.1 * p.y(), 1.0);
+    }
+}
+
+TEST(FaceVarying, SmoothUVsMatchOpenSubdivWithSeams) {
+  auto smooth = [](OsdParams p) {
+    p.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+    return p;
+  };
+  // A grid cut into two islands down a column, with a boundary, in both boundary modes and
+  // with creases inside an island and along the seam.
+  SurfaceMesh grid = test::quad_grid(6, 5);
+  set_uv_islands(grid, [&](Face f) { return f.idx() % 6 >= 3; });
+  for (auto b : {BoundaryInterpolation::kEdges, BoundaryInterpolation::kEdgesAndCorners})
+    expect_matches_osd(grid, smooth(cc(3, b)), "grid uv");
+  test::set_crease(grid, 8, 9, 1.5);
+  test::set_crease(grid, 9, 10, 10.0);
+  test::set_crease(grid, 3, 10, 0.6);
+  test::set_corner(grid, 15, 2.0);
+  expect_matches_osd(grid, smooth(cc(3)), "creased grid uv");
+  // Closed meshes: one face of the cube and the pentagon of the prism are their own island.
+  SurfaceMesh cube = test::creased_cube();
+  set_uv_islands(cube, [](Face f) { return f.idx() == 0; });
+  expect_matches_osd(cube, smooth(cc(3)), "creased cube uv");
+  SurfaceMesh mixed = test::mixed_polygons();
+  set_uv_islands(mixed, [](Face f) { return f.idx() == 0; });
+  expect_matches_osd(mixed, smooth(cc(2)), "mixed uv");
+  // Loop: islands of a few triangles on the icosahedron, and an open strip with one.
+  SurfaceMesh ico = test::icosahedron();
+  test::set_crease(ico, 0, 11, 2.5);
+  set_uv_islands(ico, [](Face f) { return f.idx() % 7 == 0; });
+  expect_matches_osd(ico, smooth(loop(3)), "icosahedron uv");
+  SurfaceMesh strip = test::triangle_strip(8);
+  set_uv_islands(strip, [](Face f) { return f.idx() >= 10; });
+  expect_matches_osd(strip, smooth(loop(3)), "strip uv");
+}
+
 TEST(Limit, SmoothVertexNormalsMatchOpenSubdivTangents) {
   for (auto scheme : {SubdivisionScheme::kCatmullClark, SubdivisionScheme::kLoop}) {
     const bool loop_scheme = scheme == SubdivisionScheme::kLoop;
@@ -208,6 +255,69 @@ TEST(Limit, SmoothVertexNormalsMatchOpenSubdivTangents) {
       }
     }
   }
+}
+
+/// Limit normals of every vertex of `control` (boundaries, creases and corners included)
+/// against OpenSubdiv's tan1 × tan2, as directions.
+void expect_normals_match_osd(const SurfaceMesh& control, SubdivisionScheme scheme,
+                              BoundaryInterpolation boundary, const std::string& what) {
+  SCOPED_TRACE(what);
+  LimitOptions lo;
+  lo.scheme = scheme;
+  lo.boundary = boundary;
+  lo.normals = true;
+  const LimitResult ours = limit_positions(control, lo);
+  const auto osd = test::osd_limit_normals(control, scheme, boundary);
+  for (Vertex v : control.vertices()) {
+    const double c = std::abs(ours.normals[v.idx()].dot(osd[v.idx()]));
+    EXPECT_NEAR(c, 1.0, 1e-9) << "vertex " << v.idx() << " ours "
+                              << ours.normals[v.idx()].transpose() << " osd "
+                              << osd[v.idx()].transpose();
+  }
+}
+
+TEST(Limit, CreaseBoundaryAndCornerNormalsMatchOpenSubdivTangents) {
+  const auto cc = SubdivisionScheme::kCatmullClark;
+  const auto lp = SubdivisionScheme::kLoop;
+  for (auto mode : {BoundaryInterpolation::kEdges, BoundaryInterpolation::kEdgesAndCorners})
+    expect_normals_match_osd(test::quad_grid(4, 3), cc, mode, "quad grid");
+  // Semi-sharp and infinite creases with a corner: crease vertices with 1..3 faces between
+  // the sharp edges on either side, and corners (level 1 makes the cube all quads).
+  SubdivideOptions o;
+  o.levels = 1;
+  expect_normals_match_osd(test::creased_cube(), cc, BoundaryInterpolation::kEdges,
+                           "creased cube");
+  const SurfaceMesh cube1 = subdivide(test::creased_cube(), o).mesh;
+  expect_normals_match_osd(cube1, cc, BoundaryInterpolation::kEdges, "creased cube level 1");
+  // A crease through an extraordinary vertex: the pyramid's apex (vertex-point F + E + 0
+  // after one level) with two of its n edges sharp.
+  for (int n : {3, 5, 7}) {
+    const SurfaceMesh pyramid = test::pyramid(n);
+    SurfaceMesh p = subdivide(pyramid, o).mesh;
+    const Vertex apex(static_cast<std::uint32_t>(pyramid.n_faces() + pyramid.n_edges()));
+    auto es = p.add_property<Edge, double>(prop::kEdgeSharpness, 0.0);
+    int i = 0;
+    for (Halfedge h : p.outgoing(apex)) {
+      if (i == 0 || i == n / 2 + 1) es[SurfaceMesh::edge(h)] = 10.0;
+      ++i;
+    }
+    expect_normals_match_osd(p, cc, BoundaryInterpolation::kEdges, "pyramid " + std::to_string(n));
+  }
+  expect_normals_match_osd(test::triangle_strip(6), lp, BoundaryInterpolation::kEdges, "strip");
+  expect_normals_match_osd(test::triangle_strip(6), lp, BoundaryInterpolation::kEdgesAndCorners,
+                           "strip, corners");
+  o.scheme = lp;
+  for (int n : {4, 6, 8}) {
+    SurfaceMesh b = test::bipyramid_fan(n);
+    test::set_crease(b, 0, 2, 10.0);
+    test::set_crease(b, 0, 2 + n / 2, 2.5);
+    expect_normals_match_osd(b, lp, BoundaryInterpolation::kEdges, "bipyramid " + std::to_string(n));
+    expect_normals_match_osd(subdivide(b, o).mesh, lp, BoundaryInterpolation::kEdges,
+                             "bipyramid level 1 " + std::to_string(n));
+  }
+  SurfaceMesh ico = test::icosahedron();
+  test::set_corner(ico, 0, 10.0);
+  expect_normals_match_osd(ico, lp, BoundaryInterpolation::kEdges, "icosahedron corner");
 }
 
 // ---- the corpus: OpenSubdiv's own regression shapes and small real meshes -------------
@@ -242,6 +352,11 @@ TEST(Corpus, MatchesOpenSubdivOnItsRegressionShapes) {
     if (all.str().find("creasemethod 0/0/1 chaikin") != std::string::npos)
       p.crease_method = CreaseMethod::kChaikin;
     expect_matches_osd(built.mesh, p, name);
+    if (built.mesh.has_property<Halfedge>(prop::kCornerTexCoord)) {
+      p.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+      p.levels = 2;
+      expect_matches_osd(built.mesh, p, name + ", smooth UVs");
+    }
     ++tested;
   }
   EXPECT_GE(tested, 30);

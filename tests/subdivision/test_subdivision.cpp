@@ -191,6 +191,42 @@ TEST(Subdivision, RefinesEveryFloatingVertexProperty) {
   for (Face f : r.mesh.faces()) EXPECT_EQ(rf[f], rf1[Face(f.idx() / 4)]);
 }
 
+TEST(Subdivision, SmoothFaceVaryingIsAffineInsideIslandsAndKeepsSeamValues) {
+  // Seamless UVs that are an affine function of position stay that function of the refined
+  // positions (subdivision is affine-invariant); a seam's vertices keep their values.
+  auto affine = [](const Point& p) { return TexCoord(0.5 * p.x() + 0.25 * p.y(), p.z() - 0.3 * p.x()); };
+  for (bool seam : {false, true}) {
+    SurfaceMesh m = test::cube();
+    auto uv = m.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord, TexCoord::Zero());
+    for (Face f : m.faces())
+      for (Halfedge h : m.halfedges(f))
+        uv[h] = affine(m.position(m.to_vertex(h))) + (seam && f.idx() == 0 ? TexCoord(2, 0) : TexCoord(0, 0));
+    SubdivideOptions o;
+    o.levels = 3;
+    o.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+    const SurfaceMesh r = subdivide(m, o).mesh;
+    auto ruv = r.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+    ASSERT_TRUE(ruv);
+    const std::uint32_t first_vertex_point = static_cast<std::uint32_t>(r.n_vertices() - m.n_vertices());
+    for (Halfedge h : r.halfedges()) {
+      if (r.is_boundary(h)) continue;
+      const Vertex v = r.to_vertex(h);
+      if (!seam) {
+        EXPECT_LT((ruv[h] - affine(r.position(v))).norm(), 1e-12);
+      } else if (v.idx() >= first_vertex_point) {
+        // Every cube vertex lies on the seam around face 0 or away from it; the four on it
+        // (vertices 0-3) keep the value of the face the corner belongs to.
+        const Vertex parent(v.idx() - first_vertex_point);
+        if (parent.idx() < 4) {
+          const Point p = m.position(parent);
+          const bool island = (ruv[h] - affine(p)).norm() > 1.0;
+          EXPECT_LT((ruv[h] - affine(p) - (island ? TexCoord(2, 0) : TexCoord(0, 0))).norm(), 1e-15);
+        }
+      }
+    }
+  }
+}
+
 TEST(Subdivision, SharpnessPropertiesDecayInTheResult) {
   SurfaceMesh m = test::creased_cube();
   const SubdivideResult r = subdivide(m, cc(1));
