@@ -9,6 +9,11 @@
 // than about the code; the TBB column is wall time.
 //
 // Usage: bench_subdivision [--quick]   (CSV: $GEOM_BENCH_OUT/subdivision*.csv)
+//
+// The accuracy table is also written one row per (scheme, plain or pushed to the limit,
+// level) to subdivision_tradeoff.csv; its chart, error against time, is one command:
+//   bench/plot.py bench-out/subdivision_tradeoff.csv --x "cpu s" --y "max error"
+//       --group method --logx --logy -o bench-out/subdivision_tradeoff.png
 
 #include "support/harness.h"
 
@@ -271,6 +276,7 @@ int main(int argc, char** argv) {
                "sampled at vertices, edge midpoints and face centres)\n";
   geom::bench::Table acc({"scheme", "level", "faces", "mesh MB", "plain cpu s", "plain max",
                           "plain rms", "limit cpu s", "pushed max", "pushed rms"});
+  geom::bench::Table tradeoff({"method", "level", "faces", "cpu s", "max error", "rms error"});
   for (bool loop : {false, true}) {
     const SurfaceMesh& input = loop ? ico : sphere;
     const std::size_t max_faces = quick ? 400000 : 6000000;
@@ -293,9 +299,16 @@ int main(int argc, char** argv) {
       acc.add({loop ? "loop" : "catmull-clark", std::to_string(k), std::to_string(plain.mesh.n_faces()),
                fmt(mesh_megabytes(plain.mesh)), fmt(t_plain), fmt(e_plain.max), fmt(e_plain.rms),
                fmt(t_limit), fmt(e_pushed.max), fmt(e_pushed.rms)});
+      const std::string scheme = loop ? "loop" : "catmull-clark";
+      tradeoff.add({scheme + " level k", std::to_string(k), std::to_string(plain.mesh.n_faces()),
+                    fmt(t_plain), fmt(e_plain.max), fmt(e_plain.rms)});
+      tradeoff.add({scheme + " level k + limit", std::to_string(k),
+                    std::to_string(plain.mesh.n_faces()), fmt(t_limit), fmt(e_pushed.max),
+                    fmt(e_pushed.rms)});
     }
   }
   acc.print();
   acc.write_csv(geom::bench::out_dir() / "subdivision_accuracy.csv");
+  tradeoff.write_csv(geom::bench::out_dir() / "subdivision_tradeoff.csv");
   return 0;
 }
