@@ -42,6 +42,11 @@ void AdaptiveModel::rebuild() {
   f[best] += kProbScale - sum;
   cum_[0] = 0;
   for (unsigned s = 0; s < n_; ++s) cum_[s + 1] = cum_[s] + f[s];
+  unsigned s = 0;
+  for (unsigned i = 0; i < coarse_.size(); ++i) {
+    while (cum_[s + 1] <= (i << kCoarseShift)) ++s;
+    coarse_[i] = static_cast<std::uint8_t>(s);
+  }
   interval_ = std::min<std::uint32_t>(interval_ * 2, 1024);
   until_rebuild_ = interval_;
 }

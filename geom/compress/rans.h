@@ -41,7 +41,8 @@ class AdaptiveModel {
   std::uint32_t freq(unsigned s) const { return cum_[s + 1] - cum_[s]; }
   /// The symbol whose interval holds slot (slot < 2^15).
   unsigned find(std::uint32_t slot) const {
-    unsigned s = 0;
+    // The coarse table jumps past most of a skewed alphabet; a short scan finishes.
+    unsigned s = coarse_[slot >> kCoarseShift];
     while (cum_[s + 1] <= slot) ++s;
     return s;
   }
@@ -54,6 +55,7 @@ class AdaptiveModel {
  private:
   static constexpr std::uint32_t kIncrement = 32;
   static constexpr std::uint32_t kCountLimit = 1u << 16;
+  static constexpr unsigned kCoarseShift = 10;
   void rebuild();
 
   unsigned n_;
@@ -61,6 +63,8 @@ class AdaptiveModel {
   std::uint32_t interval_;
   std::array<std::uint32_t, kMaxSymbols + 1> cum_{};
   std::array<std::uint32_t, kMaxSymbols> counts_{};
+  /// The symbol holding slot i << kCoarseShift (decoder speed only; not part of the format).
+  std::array<std::uint8_t, (kProbScale >> kCoarseShift)> coarse_{};
 };
 
 /// Collects symbols in coding order and writes them as one rANS stream at finish(). rANS is

@@ -197,7 +197,7 @@ TEST(Decompress, RejectsBadHeaderWithOffset) {
     EXPECT_EQ(e.offset(), 0u);
   }
   bad = bytes;
-  bad[4] = 2;  // version
+  bad[4] = 3;  // version (1 and 2 exist)
   try {
     decompress(bad);
     FAIL();

@@ -1,10 +1,12 @@
 #include <geom/compress/container/codec.h>
 
+#include <geom/compress/attributes.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/connectivity.h>
 #include <geom/compress/predict.h>
 #include <geom/compress/quantise.h>
 #include <geom/compress/rans.h>
+#include <geom/core/soup.h>
 
 #include <cmath>
 #include <limits>
@@ -18,11 +20,16 @@ using namespace codec;
 using namespace codec::detail;
 
 constexpr std::uint8_t kMagic[4] = {'G', 'M', 'C', 0x1A};
+// Version 2 adds the attribute flags and fields; streams without attributes stay version 1,
+// byte for byte as before, so older decoders keep reading them.
 constexpr std::uint8_t kVersion = 1;
+constexpr std::uint8_t kVersionAttributes = 2;
 constexpr std::uint8_t kFlagPreserveOrder = 1;
 constexpr std::uint8_t kFlagPolygons = 2;
 constexpr std::uint8_t kFlagLeftFirst = 4;
-constexpr std::uint8_t kKnownFlags = 7;
+constexpr std::uint8_t kFlagNormals = 8;
+constexpr std::uint8_t kFlagTexcoords = 16;
+constexpr std::uint8_t kKnownFlags = 31;
 // Conforming streams cannot hold more than this many triangles per connectivity byte or
 // vertices per geometry byte (kMinFreq bounds every symbol's cost from below; FORMAT.md).
 constexpr std::uint64_t kMaxTrianglesPerByte = 2048;
@@ -73,6 +80,8 @@ struct Header {
   std::uint8_t flags = 0;
   Predictor predictor = Predictor::kDelta;
   Quantiser quantiser;
+  unsigned normal_bits = 0;
+  Quantiser uv_quantiser;
   std::uint64_t n_faces = 0, n_triangles = 0, n_vertices = 0, n_isolated = 0;
 };
 
@@ -80,10 +89,39 @@ struct Header {
 struct Core {
   Header h;
   CornerTable table;
-  std::vector<QPoint> q;
+  std::vector<QPoint> q, normals, uvs;
   std::span<const std::uint8_t> order_rans, order_raw;
   std::uint64_t order_offset = 0, connectivity_offset = 0;
 };
+
+void read_attribute_header(ByteReader& r, Header& h) {
+  if (h.flags & kFlagNormals) {
+    h.normal_bits = r.u8();
+    if (h.normal_bits < 2 || h.normal_bits > 20)
+      throw DecodeError(r.offset() - 1, "normal bits outside 2–20");
+  }
+  if (h.flags & kFlagTexcoords) {
+    Quantiser& u = h.uv_quantiser;
+    u.bits = r.u8();
+    if (u.bits < 1 || u.bits > 30) throw DecodeError(r.offset() - 1, "texture coordinate bits outside 1–30");
+    u.origin = {r.f64(), r.f64(), 0.0};
+    u.step = r.f64();
+    const double top = static_cast<double>((std::uint64_t{1} << u.bits) - 1);
+    if (!u.origin.allFinite() || !std::isfinite(u.step) || !(u.step > 0) ||
+        !(u.origin.array() + u.step * top).allFinite())
+      throw DecodeError(r.offset() - 8, "texture coordinate grid not finite and positive");
+  }
+}
+
+void write_attribute_header(ByteWriter& w, unsigned normal_bits, const Quantiser* uv) {
+  if (normal_bits > 0) w.u8(static_cast<std::uint8_t>(normal_bits));
+  if (uv) {
+    w.u8(static_cast<std::uint8_t>(uv->bits));
+    w.f64(uv->origin.x());
+    w.f64(uv->origin.y());
+    w.f64(uv->step);
+  }
+}
 
 Core decode_core(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes);
@@ -92,11 +130,12 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   for (std::uint8_t m : kMagic)
     if (r.u8() != m) throw DecodeError(r.offset() - 1, "not a geom compressed mesh (bad magic)");
   const std::uint8_t version = r.u8();
-  if (version != kVersion)
+  if (version != kVersion && version != kVersionAttributes)
     throw DecodeError(r.offset() - 1, "unsupported stream version " + std::to_string(version) +
-                                          " (this decoder reads version 1)");
+                                          " (this decoder reads versions 1 and 2)");
   h.flags = r.u8();
-  if (h.flags & ~kKnownFlags) throw DecodeError(r.offset() - 1, "unknown flags");
+  if (h.flags & ~(version == kVersion ? kKnownFlags & 7 : kKnownFlags))
+    throw DecodeError(r.offset() - 1, "unknown flags for version " + std::to_string(version));
   const std::uint8_t pred = r.u8();
   if (pred > 3) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
   h.predictor = static_cast<Predictor>(pred);
@@ -111,6 +150,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   const double top = static_cast<double>((std::uint64_t{1} << h.quantiser.bits) - 1);
   if (!(h.quantiser.origin.array() + h.quantiser.step * top).allFinite())
     throw DecodeError(r.offset() - 8, "grid extends beyond the double range");
+  read_attribute_header(r, h);
   const std::size_t counts_at = r.offset();
   h.n_faces = r.varint();
   h.n_triangles = r.varint();
@@ -122,6 +162,10 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   const std::uint64_t geom_at = r.offset();
   const auto geom_rans = r.take(r.varint());
   const auto geom_raw = r.take(r.varint());
+  std::span<const std::uint8_t> attr[2][2];  // [normals, uvs][rans, raw]
+  for (int a = 0; a < 2; ++a)
+    if (h.flags & (a == 0 ? kFlagNormals : kFlagTexcoords))
+      for (int k = 0; k < 2; ++k) attr[a][k] = r.take(r.varint());
   if (h.flags & kFlagPreserveOrder) {
     core.order_offset = r.offset();
     core.order_rans = r.take(r.varint());
@@ -164,7 +208,48 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   } else if (!geom_rans.empty() || !geom_raw.empty()) {
     throw DecodeError(geom_at, "geometry data for an empty mesh");
   }
+  auto base = [&](std::span<const std::uint8_t> s) {
+    return static_cast<std::uint64_t>(s.data() - bytes.data());
+  };
+  const auto nv = static_cast<std::size_t>(h.n_vertices);
+  if (h.flags & kFlagNormals)
+    decode_attribute(core.table, nv, h.normal_bits, attr[0][0], base(attr[0][0]), attr[0][1],
+                     base(attr[0][1]), core.normals);
+  if (h.flags & kFlagTexcoords)
+    decode_attribute(core.table, nv, h.uv_quantiser.bits, attr[1][0], base(attr[1][0]),
+                     attr[1][1], base(attr[1][1]), core.uvs);
   return core;
+}
+
+/// The input's per-vertex normals and texture coordinates (dense order), when present and
+/// asked for.
+struct Attributes {
+  std::vector<Normal> normals;
+  std::vector<TexCoord> uvs;
+  Quantiser uv_grid;
+};
+
+Attributes gather_attributes(const SurfaceMesh& mesh, const CompressOptions& options) {
+  if (options.normal_bits == 1 || options.normal_bits > 20)
+    throw InvalidArgument("compress: normal bits must be 0 or in [2, 20], got " +
+                          std::to_string(options.normal_bits));
+  if (options.texcoord_bits > 30)
+    throw InvalidArgument("compress: texture coordinate bits must be in [0, 30], got " +
+                          std::to_string(options.texcoord_bits));
+  Attributes a;
+  const auto normals = mesh.get_property<Vertex, Normal>(prop::kVertexNormal);
+  if (options.normal_bits > 0 && normals) {
+    const auto& p = normals;
+    for (Vertex v : mesh.vertices()) a.normals.push_back(p[v]);
+  }
+  const auto uvs = mesh.get_property<Vertex, TexCoord>(prop::kVertexTexCoord);
+  if (options.texcoord_bits > 0 && uvs) {
+    const auto& p = uvs;
+    for (Vertex v : mesh.vertices()) a.uvs.push_back(p[v]);
+    a.uv_grid = texcoord_quantiser(a.uvs, options.texcoord_bits);
+  }
+  if (mesh.n_vertices() == 0) a.normals.clear(), a.uvs.clear();
+  return a;
 }
 
 void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where, const char* what) {
@@ -188,6 +273,7 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
                                      ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
                                      : quantiser_for_bits(flat.positions, options.bits));
   const std::size_t nv = flat.positions.size();
+  const Attributes attributes = gather_attributes(mesh, options);
   std::vector<QPoint> q_in(nv);
   for (std::size_t i = 0; i < nv; ++i) q_in[i] = quant.quantise(flat.positions[i]);
 
@@ -274,18 +360,40 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     order.raw = bw.finish();
   }
 
+  // Attributes follow the decoded vertex order on the chosen table.
+  Streams normal_streams, uv_streams;
+  std::vector<QPoint> qa(nv);
+  if (!attributes.normals.empty()) {
+    for (std::size_t i = 0; i < nv; ++i)
+      qa[i] = octahedral_quantise(attributes.normals[best.vertex_order[i]], options.normal_bits,
+                                  best.vertex_order[i]);
+    encode_attribute(best.table, qa, options.normal_bits, normal_streams.rans, normal_streams.raw);
+  }
+  if (!attributes.uvs.empty()) {
+    for (std::size_t i = 0; i < nv; ++i) {
+      const TexCoord& t = attributes.uvs[best.vertex_order[i]];
+      qa[i] = attributes.uv_grid.quantise(Point(t.x(), t.y(), 0.0));
+    }
+    encode_attribute(best.table, qa, attributes.uv_grid.bits, uv_streams.rans, uv_streams.raw);
+  }
+
   ByteWriter w;
   for (std::uint8_t m : kMagic) w.u8(m);
-  w.u8(kVersion);
+  const bool has_attributes = !attributes.normals.empty() || !attributes.uvs.empty();
+  w.u8(has_attributes ? kVersionAttributes : kVersion);
   std::uint8_t flags = 0;
   if (options.preserve_order) flags |= kFlagPreserveOrder;
   if (flat.polygons) flags |= kFlagPolygons;
   if (best.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
+  if (!attributes.normals.empty()) flags |= kFlagNormals;
+  if (!attributes.uvs.empty()) flags |= kFlagTexcoords;
   w.u8(flags);
   w.u8(static_cast<std::uint8_t>(best.predictor));
   w.u8(static_cast<std::uint8_t>(quant.bits));
   for (int a = 0; a < 3; ++a) w.f64(quant.origin[a]);
   w.f64(quant.step);
+  write_attribute_header(w, attributes.normals.empty() ? 0 : options.normal_bits,
+                         attributes.uvs.empty() ? nullptr : &attributes.uv_grid);
   w.varint(flat.n_faces);
   w.varint(flat.table.n_triangles());
   w.varint(nv);
@@ -299,6 +407,15 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   write_section(w, best.geometry.rans);
   write_section(w, best.geometry.raw);
   result.stats.geometry_bytes = w.bytes().size() - before_conn - result.stats.connectivity_bytes;
+  for (const Streams* a : {&normal_streams, &uv_streams}) {
+    if (a == &normal_streams ? attributes.normals.empty() : attributes.uvs.empty()) continue;
+    const std::size_t before = w.bytes().size();
+    write_section(w, a->rans);
+    write_section(w, a->raw);
+    (a == &normal_streams ? result.stats.normal_bytes : result.stats.texcoord_bytes) =
+        w.bytes().size() - before;
+  }
+  if (!attributes.uvs.empty()) result.stats.texcoord_max_error = attributes.uv_grid.max_error();
   if (options.preserve_order) {
     const std::size_t before = w.bytes().size();
     write_section(w, order.rans);
@@ -379,6 +496,17 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
   std::vector<Point> positions(nv);
   for (std::size_t i = 0; i < nv; ++i) positions[vertex_slot[i]] = h.quantiser.dequantise(core.q[i]);
   for (const Point& p : positions) mesh.add_vertex(p);
+  if (h.flags & kFlagNormals) {
+    auto p = mesh.add_property<Vertex, Normal>(prop::kVertexNormal);
+    for (std::size_t i = 0; i < nv; ++i)
+      p[Vertex(vertex_slot[i])] = octahedral_dequantise(core.normals[i], h.normal_bits);
+  }
+  if (h.flags & kFlagTexcoords) {
+    auto p = mesh.add_property<Vertex, TexCoord>(prop::kVertexTexCoord);
+    for (std::size_t i = 0; i < nv; ++i)
+      p[Vertex(vertex_slot[i])] = h.uv_quantiser.dequantise(core.uvs[i]).head<2>();
+    result.texcoord_max_error = h.uv_quantiser.max_error();
+  }
   std::vector<std::uint32_t> face_of_slot(nf);
   for (std::uint32_t j = 0; j < nf; ++j) face_of_slot[face_slot[j]] = j;
   std::vector<Vertex> corners;
@@ -408,11 +536,22 @@ FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
     for (int a = 0; a < 3; ++a)
       out.positions[3 * i + a] = static_cast<float>(qz.origin[a] + qz.step * core.q[i][a]);
   out.triangles = std::move(core.table.vertex);
+  out.normals.reserve(3 * core.normals.size());
+  for (const QPoint& q : core.normals) {
+    const Normal n = octahedral_dequantise(q, core.h.normal_bits);
+    out.normals.insert(out.normals.end(), {float(n.x()), float(n.y()), float(n.z())});
+  }
+  out.texcoords.reserve(2 * core.uvs.size());
+  for (const QPoint& q : core.uvs) {
+    const Point t = core.h.uv_quantiser.dequantise(q);
+    out.texcoords.insert(out.texcoords.end(), {float(t.x()), float(t.y())});
+  }
   return out;
 }
 }  // namespace codec
 
-std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners) {
+std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
+                                std::size_t n_attributes) {
   const std::size_t n_tri = n_corners >= 2 * n_faces ? n_corners - 2 * n_faces : n_corners;
   // Every model symbol costs at most log2(2^15 / kMinFreq) = 10 bits (+ rounding; 11 used);
   // raw fields are at most 31 bits. Per triangle ≤ 12 symbols and 93 raw bits; per vertex
@@ -420,7 +559,9 @@ std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std
   const std::size_t conn = (n_tri * (12 * 11 + 93) + 7) / 8 + 16;
   const std::size_t geom = (n_vertices * (6 * 11 + 87) + 7) / 8 + 16;
   const std::size_t order = (n_vertices * (11 + 31) + n_faces * (2 * 11 + 62) + 7) / 8 + 16;
-  return 128 + conn + geom + order + 6 * 10;
+  // An attribute codes like the positions (fewer bits, same bound) plus ≤ 26 header bytes
+  // and two section lengths.
+  return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10);
 }
 
 }  // namespace geom

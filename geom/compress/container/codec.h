@@ -32,6 +32,13 @@ struct CompressOptions {
   /// Keep the input's vertex order, face order and each face's first corner exactly (costs
   /// about log2(n) bits per vertex and face for a random order, much less for a coherent one).
   bool preserve_order = false;
+  /// Bits per octahedral coordinate of the vertex normals (property "v:normal"), 2–20;
+  /// 0 drops them. The angular error is below 4.5 / 2^bits radians (0.25° at 10 bits).
+  unsigned normal_bits = 10;
+  /// Bits per texture coordinate (property "v:texcoord") on a grid across the larger UV
+  /// extent, 1–30; 0 drops them. Per-corner UVs and normals ("h:texcoord", "h:normal": seams,
+  /// creases) are not coded.
+  unsigned texcoord_bits = 12;
 };
 
 /// Where the bytes went, for reports and benchmarks.
@@ -40,6 +47,9 @@ struct CompressStats {
   std::size_t connectivity_bytes = 0;
   std::size_t geometry_bytes = 0;
   std::size_t order_bytes = 0;
+  std::size_t normal_bytes = 0;    ///< 0 when the mesh has no normals (or normal_bits = 0)
+  std::size_t texcoord_bytes = 0;  ///< likewise for texture coordinates
+  double texcoord_max_error = 0.0;  ///< per UV coordinate: the UV grid step / 2
   unsigned bits = 0;        ///< grid bits used
   double step = 0.0;        ///< grid step
   double max_error = 0.0;   ///< bound on each coordinate's error: step / 2
@@ -59,12 +69,15 @@ struct CompressResult {
 };
 
 /// Compress a mesh (triangles, quads and n-gons; any number of components, boundaries and
-/// handles; isolated vertices kept). Vertex and face properties other than positions are not
-/// coded.
+/// handles; isolated vertices kept). Vertex normals and texture coordinates (the properties
+/// build() creates from a file) are coded when present; other properties are not. A SurfaceMesh is manifold by construction, so non-manifold input never reaches the
+/// codec: `geom compress` refuses a file whose loading had to split non-manifold edges or
+/// vertices (the split could not be undone on decode), naming the elements.
 /// Pre: finite positions.
 /// Throws: InvalidArgument for bits outside 1–30, a precision ≤ 0 or needing more than 30
-/// bits, a level outside 0–9, non-finite positions, or a polygon that cannot be fanned
-/// without repeating an existing edge.
+/// bits, a level outside 0–9, normal_bits outside {0} ∪ [2, 20], texcoord_bits above 30,
+/// non-finite positions, normals or texture coordinates (naming the vertex), or a polygon
+/// that cannot be fanned without repeating an existing edge.
 /// Complexity: O(V + F) per configuration tried (1 at level 0, up to 8 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
 
@@ -77,6 +90,7 @@ struct DecompressResult {
   std::vector<std::uint32_t> face_permutation;
   bool order_preserved = false;
   double max_error = 0.0;  ///< the stream's per-coordinate error bound (step / 2)
+  double texcoord_max_error = 0.0;  ///< per UV coordinate (0 without texture coordinates)
 };
 
 /// Decode a stream written by compress().
@@ -87,15 +101,20 @@ struct DecompressResult {
 DecompressResult decompress(std::span<const std::uint8_t> bytes);
 
 /// Upper bound on the size of compress()'s output for a mesh with these counts (corners =
-/// sum of face valences), at any options.
-std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners);
+/// sum of face valences) and number of coded attributes (normals, texture coordinates: 0–2),
+/// at any options.
+std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
+                                std::size_t n_attributes = 0);
 
 namespace codec {
 /// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
-/// positions (xyz per decoded vertex) and triangle indices (polygon meshes come back fanned).
+/// positions (xyz per decoded vertex) and triangle indices (polygon meshes come back fanned);
+/// normals (xyz) and texcoords (uv) per decoded vertex when the stream has them, else empty.
 struct FlatDecode {
   std::vector<float> positions;
   std::vector<std::uint32_t> triangles;
+  std::vector<float> normals;
+  std::vector<float> texcoords;
 };
 /// Throws: DecodeError as decompress(). Ignores the order section.
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
