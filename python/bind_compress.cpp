@@ -1,0 +1,85 @@
+// Bindings of geom/compress: the .gmc mesh codec (compress / decompress with the vertex and
+// face permutations).
+
+#include "arrays.h"
+#include "bindings.h"
+
+#include <geom/compress/container/codec.h>
+
+#include <cstring>
+#include <string>
+
+namespace geom::python {
+
+namespace {
+
+py::array_t<std::int64_t> index_array(const std::vector<std::uint32_t>& v) {
+  py::array_t<std::int64_t> out(static_cast<py::ssize_t>(v.size()));
+  auto a = out.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < v.size(); ++i) a(py::ssize_t(i)) = v[i];
+  return out;
+}
+
+py::bytes bytes_object(const std::vector<std::uint8_t>& b) {
+  return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+}  // namespace
+
+void bind_compress(py::module_& m) {
+  py::class_<CompressOptions>(m, "CompressOptions")
+      .def(py::init<>())
+      .def_readwrite("bits", &CompressOptions::bits)
+      .def_readwrite("precision", &CompressOptions::precision)
+      .def_readwrite("level", &CompressOptions::level)
+      .def_readwrite("preserve_order", &CompressOptions::preserve_order)
+      .def_readwrite("normal_bits", &CompressOptions::normal_bits)
+      .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits);
+  py::class_<CompressStats>(m, "CompressStats")
+      .def_readonly("header_bytes", &CompressStats::header_bytes)
+      .def_readonly("connectivity_bytes", &CompressStats::connectivity_bytes)
+      .def_readonly("geometry_bytes", &CompressStats::geometry_bytes)
+      .def_readonly("order_bytes", &CompressStats::order_bytes)
+      .def_readonly("normal_bytes", &CompressStats::normal_bytes)
+      .def_readonly("texcoord_bytes", &CompressStats::texcoord_bytes)
+      .def_readonly("texcoord_max_error", &CompressStats::texcoord_max_error)
+      .def_readonly("bits", &CompressStats::bits)
+      .def_readonly("step", &CompressStats::step)
+      .def_readonly("max_error", &CompressStats::max_error)
+      .def_readonly("predictor", &CompressStats::predictor)
+      .def_readonly("traversal", &CompressStats::traversal);
+  py::class_<CompressResult>(m, "CompressResult")
+      .def_property_readonly("data", [](const CompressResult& r) { return bytes_object(r.bytes); })
+      .def_property_readonly("vertex_permutation",
+                             [](const CompressResult& r) { return index_array(r.vertex_permutation); })
+      .def_property_readonly("face_permutation",
+                             [](const CompressResult& r) { return index_array(r.face_permutation); })
+      .def_readonly("stats", &CompressResult::stats);
+  py::class_<DecompressResult>(m, "DecompressResult")
+      .def_readonly("mesh", &DecompressResult::mesh)
+      .def_property_readonly("vertex_permutation",
+                             [](const DecompressResult& r) { return index_array(r.vertex_permutation); })
+      .def_property_readonly("face_permutation",
+                             [](const DecompressResult& r) { return index_array(r.face_permutation); })
+      .def_readonly("order_preserved", &DecompressResult::order_preserved)
+      .def_readonly("max_error", &DecompressResult::max_error)
+      .def_readonly("texcoord_max_error", &DecompressResult::texcoord_max_error);
+  m.def(
+      "compress",
+      [](const SurfaceMesh& mesh, const CompressOptions& options) {
+        py::gil_scoped_release release;
+        return compress(mesh, options);
+      },
+      py::arg("mesh"), py::arg("options") = CompressOptions{});
+  m.def(
+      "decompress",
+      [](const py::bytes& data) {
+        const std::string s = data;  // a copy: the GIL is released while decoding
+        py::gil_scoped_release release;
+        return decompress(std::span<const std::uint8_t>(
+            reinterpret_cast<const std::uint8_t*>(s.data()), s.size()));
+      },
+      py::arg("data"));
+}
+
+}  // namespace geom::python

@@ -1,0 +1,66 @@
+"""Mesh compression (geom/compress): the .gmc codec — Edgebreaker-style connectivity,
+quantised positions with parallelogram prediction and adaptive rANS coding; see
+geom/compress/FORMAT.md for the stream."""
+
+from collections import namedtuple
+
+from . import _geom
+from ._options import make
+
+__all__ = ["compress", "decompress", "Permutation", "CompressOptions", "CompressStats"]
+
+CompressOptions = _geom.CompressOptions
+CompressStats = _geom.CompressStats
+
+Permutation = namedtuple("Permutation", ["vertices", "faces"])
+Permutation.__doc__ = """Input index of each decoded vertex (``vertices``) and face (``faces``),
+as int64 numpy arrays: decoded vertex i came from input vertex ``vertices[i]``; indices are
+dense (live elements counted in index order)."""
+
+
+def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
+             normal_bits=10, texcoord_bits=12, return_permutation=False):
+    """Compress ``mesh`` (triangles and polygons, any number of components, boundaries and
+    handles) to .gmc bytes.
+
+    Positions are quantised to ``bits`` bits (1–30) across the largest bounding-box extent,
+    or, when ``precision`` is given, to a grid with at most that error per coordinate.
+    ``level`` (0–9): higher tries more predictors and traversals and never gives a larger
+    stream. ``preserve_order`` keeps the vertex order, face order and each face's first
+    corner exactly (at a size cost); otherwise the codec reorders for size. Per-vertex
+    normals (octahedral, ``normal_bits`` 2–20, angle error < 4.5 / 2**normal_bits radians)
+    and texture coordinates (``texcoord_bits`` 1–30 across the UV box) travel when the mesh
+    has them (e.g. loaded from a PLY with nx/ny/nz, s/t); 0 drops them.
+
+    Returns the bytes, or ``(bytes, Permutation)`` with ``return_permutation=True`` — the
+    permutation is the only way to map decoded elements back to the input when the order
+    is not preserved. Raises ValueError (geom.InvalidArgument) for bits, precision or level
+    out of range, or non-finite positions.
+    """
+    options = {"bits": bits, "level": level, "preserve_order": preserve_order,
+               "normal_bits": normal_bits, "texcoord_bits": texcoord_bits}
+    if precision is not None:
+        if not precision > 0:
+            raise _geom.InvalidArgument(f"compress: precision must be positive, got {precision}")
+        options["precision"] = precision
+    result = _geom.compress(mesh, make(CompressOptions, options))
+    if return_permutation:
+        return result.data, Permutation(result.vertex_permutation, result.face_permutation)
+    return result.data
+
+
+def decompress(data):
+    """Decode .gmc bytes written by compress().
+
+    Returns ``(mesh, permutation)``: ``permutation`` is a Permutation (the identity) when the
+    stream was written with ``preserve_order=True`` — the mesh then comes back in input order —
+    and None otherwise (the encoder's ``return_permutation`` holds the map then). Every
+    position is within the stream's quantisation bound (half a grid step) of the input.
+
+    Raises geom.DecodeError (a ValueError) naming the byte offset for data that is not a
+    .gmc stream, of an unsupported version, truncated or corrupted.
+    """
+    result = _geom.decompress(bytes(data))
+    if result.order_preserved:
+        return result.mesh, Permutation(result.vertex_permutation, result.face_permutation)
+    return result.mesh, None

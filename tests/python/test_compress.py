@@ -1,0 +1,179 @@
+"""geom.compress / geom.decompress (geom/compress through the binding)."""
+
+import numpy as np
+import pytest
+
+import geom
+
+
+def torus(nu=24, nv=12):
+    """A closed genus-1 triangle mesh with 2·nu·nv faces on a lumpy torus."""
+    a = 2 * np.pi * np.arange(nu) / nu
+    b = 2 * np.pi * np.arange(nv) / nv
+    A, B = np.meshgrid(a, b, indexing="ij")
+    r = 0.35 + 0.05 * np.sin(3 * A) * np.cos(2 * B)
+    vertices = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A),
+                         r * np.sin(B)], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    at = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
+    faces = np.concatenate([
+        np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1)], -1).reshape(-1, 3),
+        np.stack([at(i, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 3)])
+    return geom.Mesh(vertices, faces)
+
+
+def quad_grid(n=6):
+    """An open wavy square of n² quads (one boundary loop)."""
+    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
+    vertices = np.stack([u, v, 0.1 * np.sin(4 * u) * np.cos(3 * v)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    at = lambda i, j: i * (n + 1) + j  # noqa: E731
+    faces = np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 4)
+    return geom.Mesh(vertices, faces)
+
+
+def cyclic(face):
+    """A face's corner cycle, rotated to start at its smallest index (orientation kept)."""
+    face = list(face)
+    k = face.index(min(face))
+    return tuple(face[k:] + face[:k])
+
+
+def test_round_trip_within_quantisation_bound_and_permutation_maps_back():
+    mesh = torus()
+    data, perm = geom.compress(mesh, bits=11, return_permutation=True)
+    assert isinstance(data, bytes) and data[:3] == b"GMC"
+    out, order = geom.decompress(data)
+    assert order is None  # the order is not in the stream; the encoder's permutation maps back
+    assert (out.n_vertices, out.n_faces) == (mesh.n_vertices, mesh.n_faces) == (288, 576)
+    assert sorted(perm.vertices) == list(range(288)) and sorted(perm.faces) == list(range(576))
+    v_in, v_out = mesh.vertices, out.vertices
+    extent = (v_in.max(axis=0) - v_in.min(axis=0)).max()
+    bound = 0.5 * extent / (2 ** 11 - 1)
+    err = np.abs(v_out - v_in[perm.vertices]).max()
+    assert 0 < err <= bound * (1 + 1e-9)
+    # Decoded face f is input face perm.faces[f] with its vertices renamed (same cycle).
+    f_in, f_out = np.asarray(mesh.faces), np.asarray(out.faces)
+    for f in range(576):
+        assert cyclic(perm.vertices[f_out[f]]) == cyclic(f_in[perm.faces[f]])
+    topo = out.analyze()
+    assert (topo.genus, topo.boundary_loops, topo.components) == (1, 0, 1)
+
+
+def test_preserve_order_gives_the_input_back_in_order():
+    mesh = quad_grid()
+    data = geom.compress(mesh, bits=14, preserve_order=True)
+    out, perm = geom.decompress(data)
+    assert list(perm.vertices) == list(range(49)) and list(perm.faces) == list(range(36))
+    assert np.array_equal(np.asarray(out.faces), np.asarray(mesh.faces))  # quads, first corners kept
+    bound = 0.5 * 1.0 / (2 ** 14 - 1)
+    assert np.abs(out.vertices - mesh.vertices).max() <= bound * (1 + 1e-9)
+
+
+def test_precision_bounds_the_error_and_levels_are_monotonic():
+    mesh = torus()
+    data, perm = geom.compress(mesh, precision=1e-3, return_permutation=True)
+    out, _ = geom.decompress(data)
+    assert np.abs(out.vertices - mesh.vertices[perm.vertices]).max() <= 1e-3 * (1 + 1e-9)
+    sizes = [len(geom.compress(mesh, level=level)) for level in range(10)]
+    assert all(b <= a for a, b in zip(sizes, sizes[1:])), sizes
+
+
+def test_corrupted_and_truncated_streams_raise_naming_the_offset():
+    data = geom.compress(torus())
+    with pytest.raises(geom.DecodeError, match=r"^byte 0: .*bad magic"):
+        geom.decompress(b"XMC" + data[3:])
+    with pytest.raises(geom.DecodeError, match=r"^byte 4: unsupported stream version 9"):
+        geom.decompress(data[:4] + b"\x09" + data[5:])
+    with pytest.raises(ValueError, match=r"^byte \d+: "):
+        geom.decompress(data[: len(data) // 2])
+    # Every single-bit flip in the payload is an error or a valid mesh, never a crash.
+    errors = 0
+    for i in range(40, len(data), max(1, len(data) // 60)):
+        flipped = bytearray(data)
+        flipped[i] ^= 0x10
+        try:
+            geom.decompress(bytes(flipped))
+        except geom.DecodeError as e:
+            assert str(e).startswith("byte ")
+            errors += 1
+    assert errors > 0
+
+
+def test_bad_options_raise():
+    mesh = torus()
+    with pytest.raises(ValueError, match="level"):
+        geom.compress(mesh, level=10)
+    with pytest.raises(ValueError, match="bits"):
+        geom.compress(mesh, bits=31)
+    with pytest.raises(ValueError, match="precision"):
+        geom.compress(mesh, precision=-1.0)
+    with pytest.raises(TypeError):
+        geom.decompress("not bytes")
+
+
+def test_empty_mesh_round_trips():
+    out, perm = geom.decompress(geom.compress(geom.Mesh(np.zeros((0, 3)), np.zeros((0, 3), int)),
+                                              preserve_order=True))
+    assert (out.n_vertices, out.n_faces) == (0, 0)
+    assert len(perm.vertices) == 0
+
+
+def test_cli_rejects_non_manifold_input_naming_the_edge(run, meshes, tmp_path):
+    out = tmp_path / "fin.gmc"
+    r = run("compress", meshes["fin"], out)
+    assert r.returncode != 0 and not out.exists()
+    assert "non-manifold input" in r.stderr and "edge" in r.stderr, r.stderr
+    assert "fin.obj" in r.stderr
+
+
+def test_cli_round_trip_with_json(run, meshes, tmp_path):
+    gmc, back = tmp_path / "t.gmc", tmp_path / "t.obj"
+    r = run("compress", meshes["tetrahedron"], gmc, "--bits", "12", "--preserve-order", "--json")
+    assert r.returncode == 0, r.stderr
+    r = run("decompress", gmc, back)
+    assert r.returncode == 0, r.stderr
+    mesh = geom.load(back)
+    assert (mesh.n_vertices, mesh.n_faces) == (4, 4)
+    assert np.abs(mesh.vertices - geom.load(meshes["tetrahedron"]).vertices).max() <= 0.5 / 4095 + 1e-12
+
+
+def read_obj(path):
+    """Positions, texture coordinates, normals and faces (vertex indices, 0-based) of an OBJ."""
+    rows = {"v": [], "vt": [], "vn": []}
+    faces = []
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if words and words[0] in rows:
+            rows[words[0]].append([float(x) for x in words[1:]])
+        elif words and words[0] == "f":
+            faces.append([int(w.split("/")[0]) - 1 for w in words[1:]])
+    return {k: np.array(v) for k, v in rows.items()}, faces
+
+
+def test_cli_normals_and_texcoords_round_trip_in_order(run, tmp_path):
+    mesh = torus(16, 8)
+    v = mesh.vertices
+    n = v - np.c_[v[:, :2] / np.linalg.norm(v[:, :2], axis=1)[:, None], np.zeros(len(v))]
+    uv = np.c_[np.arctan2(v[:, 1], v[:, 0]), 2 * v[:, 2]]
+    src = tmp_path / "t.ply"
+    header = ["ply", "format ascii 1.0", f"element vertex {len(v)}"] + [
+        f"property double {c}" for c in ("x", "y", "z", "nx", "ny", "nz", "s", "t")] + [
+        f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
+    body = [" ".join(repr(float(x)) for x in row) for row in np.c_[v, n, uv]]
+    body += ["3 " + " ".join(str(i) for i in f) for f in np.asarray(mesh.faces)]
+    src.write_text("\n".join(header + body) + "\n")
+    gmc, back = tmp_path / "t.gmc", tmp_path / "back.obj"
+    r = run("compress", src, gmc, "--preserve-order", "--normal-bits", "12", "--json")
+    assert r.returncode == 0, r.stderr
+    assert '"normal_bits_per_vertex"' in r.stdout
+    r = run("decompress", gmc, back)
+    assert r.returncode == 0, r.stderr
+    rows, faces = read_obj(back)
+    assert faces == [list(f) for f in np.asarray(mesh.faces)]
+    assert rows["vn"].shape == (len(v), 3) and rows["vt"].shape == (len(v), 2)
+    n_in = n / np.linalg.norm(n, axis=1)[:, None]
+    cos = np.clip((n_in * rows["vn"]).sum(axis=1), -1, 1)
+    assert np.arccos(cos).max() <= 4.5 / 2 ** 12
+    uv_bound = 0.5 * (uv.max(axis=0) - uv.min(axis=0)).max() / (2 ** 12 - 1)
+    assert np.abs(rows["vt"] - uv).max() <= uv_bound * (1 + 1e-9)
