@@ -25,6 +25,19 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
   if (!out) throw Error("cannot write " + path);
 }
 
+/// Loading splits non-manifold edges and vertices apart; the stream could not undo that, so
+/// decoding would silently return a different mesh. Refuse instead, naming the elements.
+void reject_nonmanifold(const std::string& input, const BuildReport& report) {
+  if (report.split_nonmanifold_edges + report.split_nonmanifold_vertices + report.detached_faces == 0)
+    return;
+  std::string what;
+  for (const std::string& m : report.messages)
+    if (m.find("non-manifold") != std::string::npos) what += (what.empty() ? "" : "; ") + m;
+  throw InvalidArgument(input + ": non-manifold input (" + what +
+                        "); geom compress codes manifold meshes only, since the split would not "
+                        "be undone on decompression: make it manifold first (e.g. geom repair)");
+}
+
 }  // namespace
 
 void add_compress_command(CLI::App& app) {
@@ -37,6 +50,7 @@ void add_compress_command(CLI::App& app) {
   CLI::App* cmd = add_command(app, "compress", "Compress a mesh to a .gmc stream", [args] {
     check_not_input(args->output, {args->input}, args->common);
     Loaded loaded = load_input(args->input, args->common);
+    reject_nonmanifold(args->input, loaded.report);
     const CompressResult r = compress(loaded.mesh, args->options);
     write_bytes(args->output, r.bytes);
     const double nv = std::max<double>(1.0, static_cast<double>(loaded.mesh.n_vertices()));
@@ -47,6 +61,9 @@ void add_compress_command(CLI::App& app) {
                         {"connectivity_bits_per_vertex", 8.0 * r.stats.connectivity_bytes / nv},
                         {"geometry_bits_per_vertex", 8.0 * r.stats.geometry_bytes / nv},
                         {"order_bits_per_vertex", 8.0 * r.stats.order_bytes / nv},
+                        {"normal_bits_per_vertex", 8.0 * r.stats.normal_bytes / nv},
+                        {"texcoord_bits_per_vertex", 8.0 * r.stats.texcoord_bytes / nv},
+                        {"texcoord_max_error", r.stats.texcoord_max_error},
                         {"quantisation_bits", r.stats.bits},
                         {"max_error", r.stats.max_error}};
     report(args->common, j,
@@ -66,6 +83,12 @@ void add_compress_command(CLI::App& app) {
       ->check(CLI::Range(0, 9));
   cmd->add_flag("--preserve-order", args->options.preserve_order,
                 "Keep vertex and face order exactly (larger)");
+  cmd->add_option("--normal-bits", args->options.normal_bits,
+                  "Octahedral bits per vertex-normal coordinate (2-20; 0 drops normals)")
+      ->check(CLI::Range(0, 20));
+  cmd->add_option("--texcoord-bits", args->options.texcoord_bits,
+                  "Bits per texture coordinate (1-30; 0 drops them)")
+      ->check(CLI::Range(0, 30));
   add_common_options(cmd, args->common, kJson | kQuiet | kForce);
 }
 
