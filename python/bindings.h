@@ -13,6 +13,7 @@ void bind_isosurface(pybind11::module_& m);
 void bind_render(pybind11::module_& m);
 void bind_compgeom(pybind11::module_& m);
 void bind_subdivision(pybind11::module_& m);
+void bind_lod(pybind11::module_& m);
 void bind_compress(pybind11::module_& m);
 void bind_batch(pybind11::module_& m);
 

@@ -51,6 +51,7 @@ constexpr Bind kBindings[] = {
     geom::python::bind_render,
     geom::python::bind_compgeom,
     geom::python::bind_subdivision,
+    geom::python::bind_lod,
     geom::python::bind_compress,
     geom::python::bind_batch,
 };

@@ -27,6 +27,7 @@ _SUBMODULES = (
     "render",
     "compgeom",
     "subdivision",
+    "lod",
     "compress",
     "batch",
 )

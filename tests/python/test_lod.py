@@ -1,0 +1,186 @@
+"""geom.simplify, geom.compare and geom.ProgressiveMesh (geom/lod through the binding)."""
+
+import numpy as np
+import pytest
+
+import geom
+
+
+def torus(nu=24, nv=12):
+    """A closed genus-1 triangle mesh with 2·nu·nv faces, on a lumpy (non-flat) torus."""
+    a = 2 * np.pi * np.arange(nu) / nu
+    b = 2 * np.pi * np.arange(nv) / nv
+    A, B = np.meshgrid(a, b, indexing="ij")
+    r = 0.35 + 0.05 * np.sin(3 * A) * np.cos(2 * B)
+    x = (1 + r * np.cos(B)) * np.cos(A)
+    y = (1 + r * np.cos(B)) * np.sin(A)
+    z = r * np.sin(B)
+    vertices = np.stack([x, y, z], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    at = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
+    faces = np.concatenate([
+        np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1)], -1).reshape(-1, 3),
+        np.stack([at(i, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 3)])
+    return geom.Mesh(vertices, faces)
+
+
+def grid(n=12):
+    """A wavy open square (one boundary loop) of 2·n² triangles."""
+    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
+    vertices = np.stack([u, v, 0.1 * np.sin(4 * u) * np.cos(3 * v)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    at = lambda i, j: i * (n + 1) + j  # noqa: E731
+    faces = np.concatenate([
+        np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1)], -1).reshape(-1, 3),
+        np.stack([at(i, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 3)])
+    return geom.Mesh(vertices, faces)
+
+
+def test_simplify_ratio_keeps_topology():
+    mesh = torus()
+    r = geom.simplify(mesh, ratio=0.25)
+    assert r.faces_before == 576
+    # A closed mesh loses exactly two triangles per collapse, so the target is met exactly.
+    assert r.faces_after == 144 == r.mesh.n_faces
+    assert r.collapses == 216
+    assert r.stop == "target reached"
+    topo = r.mesh.analyze()
+    assert (topo.genus, topo.boundary_loops, topo.components) == (1, 0, 1)
+    assert topo.manifold and r.mesh.validate().ok
+    # Every output vertex sits on an input vertex's index; kept ones are bit-exact or moved.
+    assert r.vertex_origin.shape == (r.mesh.n_vertices,)
+    assert len(set(r.vertex_origin.tolist())) == r.mesh.n_vertices
+    d = geom.compare(mesh, r.mesh, samples=20000)
+    assert 0 < d.hausdorff < 0.05 * d.diagonal
+    assert d.rms <= d.hausdorff
+
+
+def test_simplify_faces_and_max_error():
+    mesh = torus()
+    assert geom.simplify(mesh, faces=100).faces_after == 100
+    assert geom.simplify(mesh, target_faces=100).faces_after == 100
+    bound = 0.02
+    r = geom.simplify(mesh, max_error=bound)
+    assert r.max_quadric_error <= bound
+    assert r.faces_after < 576
+    assert r.stop == "every remaining collapse exceeds max_error"
+    # A tighter bound can only keep more faces.
+    assert geom.simplify(mesh, max_error=bound / 10).faces_after >= r.faces_after
+
+
+def test_keep_boundary_keeps_every_boundary_vertex():
+    mesh = grid()
+    before = mesh.vertices
+    boundary = {tuple(p) for p in before.tolist() if 0 in p[:2] or 1 in p[:2]}
+    r = geom.simplify(mesh, ratio=0.2, keep_boundary=True)
+    after = {tuple(p) for p in r.mesh.vertices.tolist()}
+    assert boundary <= after
+    assert r.mesh.analyze().boundary_loops == 1
+
+
+def test_simplify_bad_arguments():
+    mesh = torus()
+    with pytest.raises(ValueError, match="ratio"):
+        geom.simplify(mesh, ratio=1.5)
+    with pytest.raises(ValueError, match="not both"):
+        geom.simplify(mesh, ratio=0.5, faces=10)
+    with pytest.raises(ValueError, match="max_error"):
+        geom.simplify(mesh, max_error=-1.0)
+    with pytest.raises(TypeError, match="unknown option"):
+        geom.simplify(mesh, speed=3)
+    with pytest.raises(ValueError):
+        geom.compare(mesh, geom.Mesh(np.zeros((0, 3)), np.zeros((0, 3), int)))
+
+
+def test_progressive_mesh_reconstructs_exactly():
+    mesh = torus()
+    pm = geom.ProgressiveMesh(mesh)
+    assert pm.n_vertices == pm.max_vertices == mesh.n_vertices
+    assert pm.n_faces == pm.max_faces == 576
+    original_v, original_f = mesh.vertices, mesh.faces
+    pm.coarsen_to(pm.base_vertices)
+    assert pm.n_faces == pm.base_faces < 576
+    assert pm.positions.shape == (pm.base_vertices, 3)
+    assert pm.faces.shape == (pm.base_faces, 3)
+    middle = (pm.base_vertices + pm.max_vertices) // 2
+    pm.refine_to(middle)
+    assert pm.n_vertices == middle and pm.n_faces == pm.faces_at(middle)
+    pm.refine_to(pm.max_vertices)
+    origin = pm.vertex_origin
+    # Positions bit-exact and faces identical up to the returned permutation.
+    assert np.array_equal(pm.positions, original_v[origin])
+    assert np.array_equal(origin[pm.faces], original_f[pm.face_origin])
+    assert sorted(pm.face_origin.tolist()) == list(range(576))
+
+
+def test_progressive_base_from_options():
+    pm = geom.ProgressiveMesh(torus(), faces=200)
+    assert pm.base_faces == 200
+    assert pm.vertices_for_faces(200) == pm.base_vertices
+
+
+def test_geomorph_endpoints_equal_the_levels():
+    pm = geom.ProgressiveMesh(torus())
+    coarse = pm.base_vertices + 20
+    fine = pm.base_vertices + 120
+    pm.set_level(fine)
+    fine_positions, fine_faces = pm.positions, pm.faces
+    pm.set_level(coarse)
+    coarse_positions, coarse_faces = pm.positions, pm.faces
+
+    p1, f1 = pm.geomorph(coarse, fine, 1.0)
+    assert np.array_equal(p1, fine_positions) and np.array_equal(f1, fine_faces)
+    assert pm.n_vertices == fine
+
+    p0, f0 = pm.geomorph(coarse, fine, 0.0)
+    assert np.array_equal(f0, fine_faces)
+    assert np.array_equal(p0[:coarse], coarse_positions)
+    # At t=0 the fine faces collapse onto the coarse ones: the non-degenerate triangles are
+    # exactly the coarse level's, as coordinate triples.
+    def triangles(p, f):
+        return {tuple(sorted(map(tuple, p[t].tolist()))) for t in f if len({tuple(x) for x in p[t].tolist()}) == 3}
+    assert triangles(p0, f0) == triangles(coarse_positions, coarse_faces)
+
+    half, _ = pm.geomorph(coarse, fine, 0.5)
+    assert np.allclose(half, 0.5 * (p0 + p1))
+
+
+def test_progressive_bad_arguments():
+    pm = geom.ProgressiveMesh(torus())
+    with pytest.raises(ValueError, match="refine_to"):
+        pm.refine_to(pm.max_vertices + 1)
+    with pytest.raises(ValueError, match="coarsen_to"):
+        pm.coarsen_to(pm.base_vertices - 1)
+    pm.set_level(pm.base_vertices)
+    with pytest.raises(ValueError, match="use refine_to"):
+        pm.coarsen_to(pm.base_vertices + 1)
+    with pytest.raises(ValueError, match="geomorph"):
+        pm.geomorph(pm.base_vertices + 5, pm.base_vertices + 1, 0.5)
+    with pytest.raises(ValueError, match="t must be"):
+        pm.geomorph(pm.base_vertices, pm.max_vertices, 1.5)
+    with pytest.raises(ValueError, match="ratio"):
+        geom.ProgressiveMesh(torus(), ratio=-0.5)
+
+
+def test_stream_round_trip_and_corruption(tmp_path):
+    pm = geom.ProgressiveMesh(torus())
+    path = tmp_path / "torus.gpm"
+    pm.save(str(path))
+    back = geom.ProgressiveMesh.load(str(path))
+    assert isinstance(back, geom.ProgressiveMesh)
+    assert (back.base_vertices, back.max_vertices, back.max_faces) == \
+        (pm.base_vertices, pm.max_vertices, pm.max_faces)
+    assert np.array_equal(back.positions, pm.positions)
+    assert np.array_equal(back.faces, pm.faces)
+
+    data = pm.encode()
+    assert data == path.read_bytes()
+    cut = data[: len(data) * 3 // 4]
+    with pytest.raises(geom.DecodeError):
+        geom.ProgressiveMesh.decode(cut)
+    partial = geom.ProgressiveMesh.decode(cut, allow_partial=True)
+    assert pm.base_vertices <= partial.n_vertices < pm.max_vertices
+    with pytest.raises(geom.DecodeError):
+        geom.ProgressiveMesh.decode(b"not a stream at all")
+    with pytest.raises(OSError):
+        geom.ProgressiveMesh.load(str(tmp_path / "missing.gpm"))
