@@ -3,18 +3,41 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
+#include <unordered_set>
 
 namespace geom::detail {
 
 namespace {
 
+std::uint64_t pair_key(Vertex a, Vertex b) {
+  const std::uint64_t lo = std::min(a.idx(), b.idx()), hi = std::max(a.idx(), b.idx());
+  return lo << 32 | hi;
+}
 
 double quality(const Point& a, const Point& b, const Point& c, double area2) {
   const double s = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
   // 4√3·A / Σl² with A = area2 / 2.
   return s > 0 ? 2.0 * std::sqrt(3.0) * area2 / s : 0.0;
+}
+
+// The first corner of a polygon whose fan diagonals are neither edges of the mesh nor
+// diagonals of an earlier polygon: such a diagonal (two quads around a valence-2 vertex, say)
+// would give that edge a third and fourth triangle. The first corner when none qualifies.
+std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
+                     const std::unordered_set<std::uint64_t>& diagonals) {
+  const std::size_t k = c.size();
+  for (std::size_t apex = 0; k > 3 && apex < k; ++apex) {
+    bool clear = true;
+    for (std::size_t i = 2; i + 1 < k && clear; ++i) {
+      const Vertex w = c[(apex + i) % k];
+      clear = !mesh.find_edge(c[apex], w).is_valid() && !diagonals.count(pair_key(c[apex], w));
+    }
+    if (clear) return apex;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -40,12 +63,18 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   }
   const std::size_t n = vertex_of_.size();
   triangles_.reserve(mesh.n_faces() * 2);
+  std::vector<Vertex> corners;
+  std::unordered_set<std::uint64_t> diagonals;
   for (Face f : mesh.faces()) {
-    Halfedge h0 = mesh.halfedge(f);
-    const std::uint32_t a = dense[mesh.to_vertex(h0).idx()];
-    for (Halfedge h = mesh.next(h0); mesh.next(h) != h0; h = mesh.next(h))
-      triangles_.push_back({a, dense[mesh.to_vertex(h).idx()],
-                            dense[mesh.to_vertex(mesh.next(h)).idx()]});
+    corners.clear();
+    for (Vertex v : mesh.vertices(f)) corners.push_back(v);
+    const std::size_t apex = fan_apex(mesh, corners, diagonals);
+    const std::size_t k = corners.size();
+    for (std::size_t i = 2; i + 1 < k; ++i)
+      diagonals.insert(pair_key(corners[apex], corners[(apex + i) % k]));
+    for (std::size_t i = 1; i + 1 < k; ++i)
+      triangles_.push_back({dense[corners[apex].idx()], dense[corners[(apex + i) % k].idx()],
+                            dense[corners[(apex + i + 1) % k].idx()]});
   }
   if (record_) original_triangles_ = triangles_;
   tri_alive_.assign(triangles_.size(), 1);
@@ -128,56 +157,58 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   if (options.lock_boundary)
     for (std::size_t v = 0; v < n; ++v) locked_[v] |= boundary_[v];
 
-  heap_.reserve(triangles_.size() * 3 / 2 + 16);
   for (std::uint32_t a = 0; a < n; ++a) {
     ++mark_token_;
     for (std::uint32_t i = ref_begin_[a]; i < ref_begin_[a] + ref_size_[a]; ++i)
       for (std::uint32_t b : triangles_[refs_[i]])
         if (b > a && mark_[b] != mark_token_ && !(locked_[a] && locked_[b])) {
           mark_[b] = mark_token_;
-          heap_.push_back({static_cast<float>(place(a, b).cost), a, b, 0});
+          queue_.push({static_cast<float>(place(a, b).cost), a, b, 0});
         }
   }
-  for (std::size_t i = heap_.size() / 4 + 1; i-- > 0;) sift_down(i);
 }
 
-// A 4-ary min-heap: half the levels of a binary heap, and the four children of a node are
-// adjacent (one or two cache lines), which is what the pop path is bound by.
-void CollapseEngine::sift_down(std::size_t i) {
-  const std::size_t n = heap_.size();
-  const Candidate moving = heap_[i];
-  for (;;) {
-    const std::size_t first = 4 * i + 1;
-    if (first >= n) break;
-    const std::size_t end = std::min(first + 4, n);
-    std::size_t best = first;
-    for (std::size_t k = first + 1; k < end; ++k)
-      if (heap_[k].cost < heap_[best].cost) best = k;
-    if (!(heap_[best].cost < moving.cost)) break;
-    heap_[i] = heap_[best];
-    i = best;
+std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
+  // Non-negative floats order like their bit patterns; NaN goes last.
+  if (!(cost >= 0.0f)) return std::isnan(cost) ? 0x7f800000u : 0u;
+  return std::bit_cast<std::uint32_t>(cost);
+}
+
+int CollapseEngine::RadixQueue::bucket(std::uint32_t k) const {
+  return k == last_ ? 0 : 32 - std::countl_zero(k ^ last_);
+}
+
+void CollapseEngine::RadixQueue::push(Candidate c) {
+  std::uint32_t k = key(c.cost);
+  if (k < last_) {
+    k = last_;
+    c.cost = std::bit_cast<float>(k);
   }
-  heap_[i] = moving;
+  buckets_[bucket(k)].push_back(c);
+  ++size_;
 }
 
-void CollapseEngine::heap_push(const Candidate& c) {
-  std::size_t i = heap_.size();
-  heap_.push_back(c);
-  while (i > 0) {
-    const std::size_t parent = (i - 1) / 4;
-    if (!(c.cost < heap_[parent].cost)) break;
-    heap_[i] = heap_[parent];
-    i = parent;
+void CollapseEngine::RadixQueue::settle() {
+  if (buckets_[0].empty()) {
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    // Every entry of bucket i shares the bits above i with last_; the new minimum splits
+    // them into lower buckets, each entry moving at least one bucket down.
+    std::vector<Candidate>& from = buckets_[i];
+    std::uint32_t lowest = key(from.front().cost);
+    for (const Candidate& c : from) lowest = std::min(lowest, key(c.cost));
+    last_ = lowest;
+    for (const Candidate& c : from) buckets_[bucket(key(c.cost))].push_back(c);
+    from.clear();
   }
-  heap_[i] = c;
 }
 
-CollapseEngine::Candidate CollapseEngine::heap_pop() {
-  const Candidate top = heap_.front();
-  heap_.front() = heap_.back();
-  heap_.pop_back();
-  if (!heap_.empty()) sift_down(0);
-  return top;
+CollapseEngine::Candidate CollapseEngine::RadixQueue::pop() {
+  settle();
+  const Candidate c = buckets_[0].back();
+  buckets_[0].pop_back();
+  --size_;
+  return c;
 }
 
 CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b) const {
@@ -210,21 +241,28 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
 
 void CollapseEngine::push_edge(std::uint32_t a, std::uint32_t b) {
   if (locked_[a] && locked_[b]) return;
-  heap_push({static_cast<float>(place(a, b).cost), a, b, stamp_[a] + stamp_[b]});
+  queue_.push({static_cast<float>(place(a, b).cost), a, b, stamp_[a] + stamp_[b]});
 }
 
 void CollapseEngine::push_vertex_edges(std::uint32_t v) {
   ++mark_token_;
   mark_[v] = mark_token_;
+  // Gather first and prefetch the neighbours' quadrics: their cache misses then overlap
+  // instead of stalling one placement after another.
+  neighbours_.clear();
   for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
     const std::uint32_t t = refs_[i];
     if (!tri_alive_[t]) continue;
     for (std::uint32_t w : triangles_[t])
       if (mark_[w] != mark_token_) {
         mark_[w] = mark_token_;
-        push_edge(v, w);
+        neighbours_.push_back(w);
+        __builtin_prefetch(&quadric_[w]);
+        __builtin_prefetch(&quadric_[w].b1);
+        __builtin_prefetch(&pos_[w]);
       }
   }
+  for (std::uint32_t w : neighbours_) push_edge(v, w);
 }
 
 bool CollapseEngine::has_tri_with(std::uint32_t t, std::uint32_t x) const {
@@ -343,19 +381,6 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
     rec.pos_v_before = model_[v];
     rec.changed_begin = static_cast<std::uint32_t>(changed_.size());
   }
-  // u's neighbours that are not v's yet: their edges to v are new and need entries.
-  ++mark_token_;
-  for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i)
-    if (tri_alive_[refs_[i]])
-      for (std::uint32_t w : triangles_[refs_[i]]) mark_[w] = mark_token_;
-  new_neighbours_.clear();
-  for (std::uint32_t i = ref_begin_[u]; i < ref_begin_[u] + ref_size_[u]; ++i)
-    if (tri_alive_[refs_[i]])
-      for (std::uint32_t w : triangles_[refs_[i]])
-        if (mark_[w] != mark_token_) {
-          mark_[w] = mark_token_;
-          new_neighbours_.push_back(w);
-        }
   const auto new_begin = static_cast<std::uint32_t>(refs_.size());
   for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
     const std::uint32_t t = refs_[i];
@@ -411,18 +436,17 @@ SimplifyStop CollapseEngine::run(std::size_t target) {
   const std::size_t start = alive_triangles_;
   std::size_t next_report = 4096;
   while (alive_triangles_ > target) {
-    if (heap_.empty()) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
-    const Candidate c = heap_pop();
-    if (tri_count_[c.a] == 0 || tri_count_[c.b] == 0) continue;
-    const Placement pl = place(c.a, c.b);
-    if (c.stamps != stamp_[c.a] + stamp_[c.b]) {
-      // A stale lower bound: requeue at its true cost unless it is still the cheapest.
-      const auto cost = static_cast<float>(pl.cost);
-      if (!heap_.empty() && cost > heap_.front().cost) {
-        heap_push({cost, c.a, c.b, stamp_[c.a] + stamp_[c.b]});
-        continue;
-      }
+    if (queue_.empty()) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
+    const Candidate c = queue_.pop();
+    // The next entry's stamps are a cache miss away; start fetching them now.
+    if (const Candidate* next = queue_.peek()) {
+      __builtin_prefetch(&stamp_[next->a]);
+      __builtin_prefetch(&stamp_[next->b]);
     }
+    // Every collapse queues all edges of its survivor afresh, so an entry whose endpoints
+    // changed since (including one that was removed) has a newer twin: drop it unevaluated.
+    if (c.stamps != stamp_[c.a] + stamp_[c.b]) continue;
+    const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;
     if (pl.source == 1 || locked_[c.a]) std::swap(u, v);
@@ -434,14 +458,12 @@ SimplifyStop CollapseEngine::run(std::size_t target) {
       continue;
     }
     collapse(u, v, pl);
-    for (std::uint32_t w : new_neighbours_)
-      if (w != v && tri_count_[w] > 0) push_edge(v, w);
+    // Re-evaluated now, while the neighbourhood is in cache, rather than when the old
+    // entries reach the top.
+    retry_[v] = 0;
+    push_vertex_edges(v);
     // Neighbours with rejected edges: their surroundings changed, so queue their edges
     // again (duplicates of still-valid entries are harmless).
-    if (retry_[v]) {
-      retry_[v] = 0;
-      push_vertex_edges(v);
-    }
     for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i)
       for (std::uint32_t w : triangles_[refs_[i]])
         if (w != v && retry_[w]) {

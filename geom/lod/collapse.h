@@ -1,14 +1,20 @@
 #pragma once
 /// \file
 /// The edge-collapse engine behind simplify() and ProgressiveMesh: flat triangle arrays,
-/// per-vertex incident-triangle lists, Garland–Heckbert quadrics and a binary heap with
-/// lazy re-evaluation. Internal to geom/lod.
+/// per-vertex incident-triangle lists, Garland–Heckbert quadrics and a monotone priority
+/// queue. Internal to geom/lod.
 ///
-/// Heap entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
-/// sum means neither changed). A collapse only adds quadrics, so the costs of the edges
-/// around the survivor can only grow: their old entries stay valid lower bounds and are
-/// re-evaluated when they reach the top instead of being replaced eagerly, which keeps the
-/// heap near the number of edges.
+/// Queue entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
+/// sum means neither changed). A collapse queues every edge of the survivor at its new
+/// cost while that neighbourhood is in cache; the old entries are dropped unevaluated when
+/// they come out.
+///
+/// A collapse only adds quadrics, so costs only grow and the minimum never decreases (the
+/// rare exception, from round-off or the endpoint fallback, is queued at the current
+/// minimum). The queue is therefore a radix heap over the cost's float bits (Ahuja,
+/// Mehlhorn, Orlin, Tarjan 1990) rather than a comparison heap: a push appends to one of 33
+/// buckets and an entry only ever moves to lower buckets, in sequential passes. A 4-ary
+/// heap of a million edges spent most of its time on cache misses in sift-down.
 
 #include <geom/core/surface_mesh.h>
 #include <geom/lod/quadric.h>
@@ -71,6 +77,26 @@ class CollapseEngine {
     float cost;
     std::uint32_t a, b, stamps;
   };
+  /// Entries pushed below the last popped cost (possible only through round-off or the
+  /// endpoint fallback of the placement) are queued at that cost: they come out next.
+  class RadixQueue {
+   public:
+    bool empty() const { return size_ == 0; }
+    void push(Candidate c);
+    /// Remove and return an entry of the smallest cost. Pre: !empty().
+    Candidate pop();
+    /// The entry pop() returns next if it is known without work, else null.
+    const Candidate* peek() const { return buckets_[0].empty() ? nullptr : &buckets_[0].back(); }
+
+   private:
+    /// Make bucket 0 hold the entries of the smallest cost. Pre: !empty().
+    void settle();
+    static std::uint32_t key(float cost);
+    int bucket(std::uint32_t k) const;
+    std::array<std::vector<Candidate>, 33> buckets_;
+    std::uint32_t last_ = 0;
+    std::size_t size_ = 0;
+  };
   struct Placement {
     double cost;
     Point p;        // normalised units
@@ -78,9 +104,6 @@ class CollapseEngine {
   };
 
   Placement place(std::uint32_t a, std::uint32_t b) const;
-  void sift_down(std::size_t i);
-  void heap_push(const Candidate& c);
-  Candidate heap_pop();
   void push_edge(std::uint32_t a, std::uint32_t b);
   void push_vertex_edges(std::uint32_t v);
   bool has_tri_with(std::uint32_t t, std::uint32_t x) const;
@@ -118,8 +141,8 @@ class CollapseEngine {
   std::vector<std::uint32_t> refs_;
   std::vector<std::uint32_t> ref_begin_, ref_size_;
 
-  std::vector<Candidate> heap_;
-  std::vector<std::uint32_t> new_neighbours_;
+  RadixQueue queue_;
+  std::vector<std::uint32_t> neighbours_;
   std::size_t collapses_ = 0;
   double max_error_ = 0;
   bool error_rejected_ = false;

@@ -97,7 +97,8 @@ class ProgressiveMesh {
 
   /// The permutation back to the input: vertex i at full resolution is input vertex
   /// vertex_origin()[i]; face t is input triangle face_origin()[t] (input faces in order,
-  /// each polygon fan-triangulated from its first corner, corners in the same order).
+  /// each polygon fan-triangulated from its first corner, corners in the same order; from
+  /// the first corner none of whose diagonals is already a mesh edge, if the first has one).
   const std::vector<Vertex>& vertex_origin() const { return vertex_origin_; }
   const std::vector<std::uint32_t>& face_origin() const { return face_origin_; }
 
