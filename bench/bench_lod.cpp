@@ -9,6 +9,13 @@
 //
 // --faces sets the generated torus size (default 1,000,000 triangles); slow peers
 // (OpenMesh, CGAL) run on inputs up to --slow-max-faces (default: all).
+//
+// Writes bench-out/lod.csv (every input) and bench-out/lod_tradeoff.csv (the torus: what
+// accuracy costs in time: one point per method and target). The chart:
+//
+//   bench/plot.py bench-out/lod_tradeoff.csv --x seconds --y hausdorff_rel --group method
+//       --logx --logy --scatter --title "LOD: error against time" -o bench-out/lod_tradeoff.png
+// (one command line; after bench_lod has run from the repository root)
 
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
@@ -157,6 +164,7 @@ int main(int argc, char** argv) {
 
   Table table({"input", "faces", "target", "method", "seconds", "ratio_vs_meshopt", "achieved",
                "hausdorff_rel", "rms_rel"});
+  Table tradeoff({"method", "target", "seconds", "hausdorff_rel", "rms_rel"});
   for (const Input& in : inputs) {
     const TriangleBvh original(in.arrays.positions, in.arrays.triangles);
     const std::size_t f0 = in.arrays.triangles.size();
@@ -171,6 +179,9 @@ int main(int argc, char** argv) {
                    method == "meshopt" ? std::string("1x") : geom::bench::ratio(run.seconds, meshopt_seconds),
                    std::to_string(run.mesh.triangles.size()), fmt(d.relative_hausdorff(), 3),
                    fmt(d.relative_rms(), 3)});
+        if (&in == &inputs.front())
+          tradeoff.add({method, std::to_string(target), fmt(run.seconds, 4), fmt(d.relative_hausdorff(), 3),
+                        fmt(d.relative_rms(), 3)});
         std::cerr << in.name << " " << target << " " << method << " " << run.seconds << " s\n";
       };
       if (peers.count("meshopt")) report("meshopt", simplify_meshopt(in.arrays, target));
@@ -183,6 +194,7 @@ int main(int argc, char** argv) {
   }
   table.print();
   table.write_csv(out_dir() / "lod.csv");
-  std::cout << "wrote " << (out_dir() / "lod.csv").string() << "\n";
+  tradeoff.write_csv(out_dir() / "lod_tradeoff.csv");
+  std::cout << "wrote " << (out_dir() / "lod.csv").string() << " and lod_tradeoff.csv\n";
   return 0;
 }
