@@ -1,4 +1,5 @@
-// geom isosurface: marching cubes on a built-in implicit surface or a grid file.
+// geom isosurface: marching cubes on a built-in implicit surface, a grid file, or the signed
+// distance to a closed mesh.
 
 #include "commands.h"
 #include "common.h"
@@ -6,6 +7,7 @@
 #include <geom/io/grid.h>
 #include <geom/isosurface/implicit.h>
 #include <geom/isosurface/marching_cubes.h>
+#include <geom/isosurface/mesh_sdf.h>
 
 #include <memory>
 
@@ -50,7 +52,7 @@ std::array<std::size_t, 3> parse_dims(const std::string& text) {
 
 void add_isosurface_command(CLI::App& app) {
   struct Args {
-    std::string input, implicit_name, dims, dtype = "<f4", toward = "increasing";
+    std::string input, implicit_name, sdf_mesh, dims, dtype = "<f4", toward = "increasing";
     std::size_t resolution = 128;
     double level = 0.0;
     std::vector<double> spacing, origin;
@@ -60,10 +62,12 @@ void add_isosurface_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = add_command(
       app, "isosurface",
-      "Extract an iso-surface (marching cubes) from a built-in implicit or a .npy/raw grid",
+      "Extract an iso-surface (marching cubes) from a built-in implicit, a .npy/raw grid, or "
+      "the signed distance to a closed mesh",
       [args] {
-        if (args->input.empty() == args->implicit_name.empty())
-          throw UsageError("give either a GRID file or --implicit NAME");
+        if (int(!args->input.empty()) + int(!args->implicit_name.empty()) +
+                int(!args->sdf_mesh.empty()) != 1)
+          throw UsageError("give exactly one of a GRID file, --implicit NAME or --sdf MESH");
         MarchingCubesOptions options;
         options.level = args->level;
         options.compute_normals = args->normals;
@@ -75,7 +79,24 @@ void add_isosurface_command(CLI::App& app) {
 
         ScalarGrid grid;
         std::string source;
-        if (!args->implicit_name.empty()) {
+        nlohmann::json sdf_json;
+        if (!args->sdf_mesh.empty()) {
+          if (args->resolution < 8 || args->resolution > 4096)
+            throw UsageError("--resolution must be in [8, 4096] with --sdf");
+          Loaded in = load_input(args->sdf_mesh, args->common);
+          MeshSdf sdf;
+          try {
+            sdf = signed_distance_grid(in.mesh, {.resolution = args->resolution, .level = args->level});
+          } catch (const InvalidArgument& e) {
+            throw Error(args->sdf_mesh + ": " + e.what());
+          }
+          grid = std::move(sdf.grid);
+          source = args->sdf_mesh;
+          sdf_json = {{"samples", sdf.stats.samples},
+                      {"exact_samples", sdf.stats.exact_samples},
+                      {"blocks", sdf.stats.blocks},
+                      {"near_blocks", sdf.stats.near_blocks}};
+        } else if (!args->implicit_name.empty()) {
           auto [f, half] = implicit_by_name(args->implicit_name);
           if (args->resolution < 2 || args->resolution > 4096)
             throw UsageError("--resolution must be in [2, 4096]");
@@ -107,6 +128,7 @@ void add_isosurface_command(CLI::App& app) {
         MarchingCubesResult r = marching_cubes(grid.view(), options);
         std::vector<std::string> inputs;
         if (!args->input.empty()) inputs.push_back(args->input);
+        if (!args->sdf_mesh.empty()) inputs.push_back(args->sdf_mesh);
         write_output(r.mesh, inputs, args->common);
         const auto& s = r.stats;
         const long euler = long(r.mesh.n_vertices()) - long(r.mesh.n_edges()) + long(r.mesh.n_faces());
@@ -120,8 +142,10 @@ void add_isosurface_command(CLI::App& app) {
                             {"active_cells", s.active_cells},
                             {"cells", s.cells},
                             {"ambiguous_faces", s.ambiguous_faces},
+                            {"tunnels", s.tunnels},
                             {"closed", s.closed},
                             {"euler_characteristic", euler}};
+        if (!sdf_json.is_null()) j["signed_distance"] = sdf_json;
         std::string text = source + ": " + std::to_string(s.vertices) + " vertices, " +
                            std::to_string(s.triangles) + " triangles, " +
                            (s.closed ? "closed" : "open at the grid boundary") +
@@ -134,7 +158,11 @@ void add_isosurface_command(CLI::App& app) {
   cmd->add_option("grid", args->input, "Grid file: .npy (any numeric dtype), or raw with --raw");
   cmd->add_option("--implicit", args->implicit_name,
                   "Built-in surface: sphere, torus, gyroid, genus3, metaballs");
-  cmd->add_option("--resolution", args->resolution, "Samples per axis for --implicit (default 128)");
+  cmd->add_option("--sdf", args->sdf_mesh,
+                  "Closed mesh whose signed distance (negative inside) is contoured; "
+                  "--level L > 0 gives an offset surface, L < 0 an inset");
+  cmd->add_option("--resolution", args->resolution,
+                  "Samples per axis for --implicit, along the longest axis for --sdf (default 128)");
   cmd->add_option("--level", args->level, "Iso level (default 0; value == level counts as above)");
   cmd->add_option("--normals-toward", args->toward,
                   "Triangles face increasing (default) or decreasing values");

@@ -5,6 +5,7 @@
 
 #include <geom/core/errors.h>
 #include <geom/isosurface/marching_cubes.h>
+#include <geom/isosurface/mesh_sdf.h>
 
 #include <pybind11/stl.h>
 
@@ -103,6 +104,7 @@ void bind_isosurface(py::module_& m) {
       .def_readonly("centroid_vertices", &MarchingCubesStats::centroid_vertices)
       .def_readonly("active_cells", &MarchingCubesStats::active_cells)
       .def_readonly("ambiguous_faces", &MarchingCubesStats::ambiguous_faces)
+      .def_readonly("tunnels", &MarchingCubesStats::tunnels)
       .def_readonly("cells", &MarchingCubesStats::cells)
       .def_readonly("closed", &MarchingCubesStats::closed);
 
@@ -136,6 +138,36 @@ void bind_isosurface(py::module_& m) {
         return extract<double>(volume, spacing, origin, options);
       },
       py::arg("volume"), py::arg("spacing"), py::arg("origin"), py::arg("options"));
+
+  // The grid as volume[i, j, k] at origin + (i, j, k)·spacing: a Fortran-ordered float32
+  // array over geom's samples (x fastest), which marching_cubes then reads in place.
+  m.def(
+      "signed_distance_grid",
+      [](const SurfaceMesh& mesh, std::size_t resolution, double level, bool exact_everywhere) {
+        MeshSdf sdf;
+        {
+          py::gil_scoped_release release;
+          sdf = signed_distance_grid(mesh, {.resolution = resolution,
+                                            .level = level,
+                                            .exact_everywhere = exact_everywhere});
+        }
+        const GridDims d = sdf.grid.dims();
+        const GridGeometry g = sdf.grid.geometry();
+        auto* owner = new std::vector<float>(sdf.grid.floats().begin(), sdf.grid.floats().end());
+        py::capsule free_owner(owner, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+        const py::ssize_t f = sizeof(float);
+        py::array_t<float> volume({py::ssize_t(d.nx), py::ssize_t(d.ny), py::ssize_t(d.nz)},
+                                  {f, f * py::ssize_t(d.nx), f * py::ssize_t(d.nx * d.ny)},
+                                  owner->data(), free_owner);
+        py::dict stats;
+        stats["samples"] = sdf.stats.samples;
+        stats["exact_samples"] = sdf.stats.exact_samples;
+        stats["blocks"] = sdf.stats.blocks;
+        stats["near_blocks"] = sdf.stats.near_blocks;
+        return py::make_tuple(volume, py::make_tuple(g.spacing.x(), g.spacing.y(), g.spacing.z()),
+                              py::make_tuple(g.origin.x(), g.origin.y(), g.origin.z()), stats);
+      },
+      py::arg("mesh"), py::arg("resolution"), py::arg("level"), py::arg("exact_everywhere"));
 }
 
 }  // namespace geom::python

@@ -308,10 +308,13 @@ class Extractor {
             const std::uint32_t* ytop, const std::uint32_t* zs, ChunkOut& out) const {
     ++out.stats.active_cells;
     std::uint32_t entry_index = mc.first_entry;
-    if (mc.n_ambiguous) {
-      double f[8];
+    double f[8];
+    auto load = [&] {
       for (int c = 0; c < 8; ++c)
         f[c] = double(value(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))) - level_;
+    };
+    if (mc.n_ambiguous) {
+      load();
       for (int j = 0; j < mc.n_ambiguous; ++j) {
         const detail::McAmbiguousFace& af = mc.ambiguous[j];
         // Products of the same two samples are bitwise equal in either cube, so both
@@ -320,7 +323,19 @@ class Extractor {
       }
       out.stats.ambiguous_faces += mc.n_ambiguous;
     }
-    const detail::McEntry& entry = tables_.entries[entry_index];
+    const detail::McEntry* chosen = &tables_.entries[entry_index];
+    if (chosen->n_tunnels) {
+      if (!mc.n_ambiguous) load();
+      for (int j = 0; j < chosen->n_tunnels; ++j) {
+        const detail::McTunnel& tn = chosen->tunnels[j];
+        if (detail::interior_connected(f, tn.corner0, tn.corner1, tn.above)) {
+          chosen = &tables_.entries[tn.entry];
+          ++out.stats.tunnels;
+          break;
+        }
+      }
+    }
+    const detail::McEntry& entry = *chosen;
     std::uint32_t vid[16];
     const std::size_t row = y * nx_ + x;
     std::uint32_t mask = mc.edge_mask;
@@ -353,7 +368,10 @@ class Extractor {
         if (normals_) n += edge_normal(ex, ey, ez, axis, t);
         ++count;
       }
-      out.positions.push_back(p / count);
+      p /= count;
+      if ((entry.centroid_inward >> j) & 1)
+        p = 0.5 * (p + origin_ + Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5).cwiseProduct(spacing_));
+      out.positions.push_back(p);
       if (normals_) {
         double len = n.norm();
         out.normals.push_back(len > 0 ? Normal(n / len) : Normal::Zero());
@@ -466,6 +484,7 @@ IsoSurface extract(const T* values, const GridView& grid, const MarchingCubesOpt
     s.centroid_vertices += c.stats.centroid_vertices;
     s.active_cells += c.stats.active_cells;
     s.ambiguous_faces += c.stats.ambiguous_faces;
+    s.tunnels += c.stats.tunnels;
   }
   s.vertices = result.positions.size();
   s.triangles = result.triangles.size();

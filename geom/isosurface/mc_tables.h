@@ -17,6 +17,14 @@
 /// Every loop edge lies on a cube face that both cubes see with the same decision, so the
 /// result is crack-free and edge-manifold by construction.
 ///
+/// Interior (tunnels, MC33 cases 4.1.2, 6.1.2, 7.4.2, 10.1.2, 12.1.2, 13.5.2): the face
+/// decisions split the above corners into patches of the cube's surface, and the loops
+/// separate patches. Two loops that bound different above patches and the same below patch
+/// (or the reverse) become a tube instead of two discs when the trilinear interpolant
+/// joins their patches through the cube's interior (interior_connected). The tube's rungs
+/// avoid the same diagonals as the fans, and only interior edges change, so the neighbours
+/// never see the difference: the output stays crack-free and manifold.
+///
 /// Ref: Nielson, Hamann, "The asymptotic decider: resolving the ambiguity in marching
 /// cubes", IEEE Visualization 1991. Lorensen, Cline, "Marching cubes", SIGGRAPH 1987.
 
@@ -38,13 +46,26 @@ struct McCase {
   std::uint32_t first_entry = 0;  ///< entries[first_entry + decision bits]
 };
 
+/// A possible tunnel of an entry: when corners corner0 and corner1 (both above, or both
+/// below) are joined inside the cube, use entries[entry] (the tube) instead.
+struct McTunnel {
+  std::uint8_t corner0 = 0, corner1 = 0;
+  bool above = true;
+  std::uint32_t entry = 0;
+};
+
 /// Triangulation for one case and one set of face decisions. Vertex references 0-11 are
 /// edges, 12 + j is the centroid of the edges in centroid_mask[j].
 struct McEntry {
   std::uint32_t first_ref = 0;
   std::uint8_t n_triangles = 0;
   std::uint8_t n_centroids = 0;
+  std::uint8_t n_tunnels = 0;
   std::array<std::uint16_t, 4> centroid_mask{};
+  /// Bit j: centroid j is moved halfway to the cube's centre (tube rings, which must stay
+  /// strictly inside the cube even when all their edges lie on one face).
+  std::uint8_t centroid_inward = 0;
+  std::array<McTunnel, 6> tunnels{};  // at most C(4 loops, 2)
 };
 
 struct McTables {
@@ -55,6 +76,15 @@ struct McTables {
 
 /// The tables (built once, thread-safe).
 const McTables& mc_tables();
+
+/// Whether corners c0 and c1 lie in one connected component of {F ≥ 0} (above) or {F < 0}
+/// (below) inside the unit cube, F the trilinear interpolant of the corner values f (level
+/// already subtracted). Exact up to rounding: slices z = t are bilinear, each component of a
+/// slice's region contains a slice corner, so components are unions of the four vertical
+/// edges' intervals, joined where two of them share a slice side or the slice's asymptotic
+/// decider (a quadratic in t) joins a diagonal. At t = 0 and 1 the products are the face
+/// decider's, so the bottom and top faces agree with the face decisions.
+bool interior_connected(const double f[8], int c0, int c1, bool above);
 
 /// Corners of edge e (lower index first).
 constexpr std::array<std::array<std::uint8_t, 2>, 12> kEdgeCorners = {{

@@ -5,7 +5,8 @@ import numpy as np
 from . import _geom
 from ._options import make
 
-__all__ = ["marching_cubes", "isosurface", "MarchingCubesOptions", "MarchingCubesStats",
+__all__ = ["marching_cubes", "isosurface", "signed_distance_grid", "mesh_isosurface",
+           "MarchingCubesOptions", "MarchingCubesStats",
            "IsoSurface"]
 
 MarchingCubesOptions = _geom.MarchingCubesOptions
@@ -61,3 +62,28 @@ def isosurface(function, bounds, resolution, level=0.0, **options):
         raise ValueError(f"function returned shape {values.shape}, expected {x.shape}")
     spacing = (hi - lo) / (n - 1)
     return marching_cubes(values, level, spacing, lo, **options)
+
+
+def signed_distance_grid(mesh, resolution=128, level=0.0, exact_everywhere=False):
+    """Sample the signed distance to the closed ``mesh`` (a geom.Mesh; negative inside) on a
+    grid around it: its bounding box plus max(level, 0) + 3 cells per side, cubic cells,
+    ``resolution`` samples along the longest axis.
+
+    Samples within |level| + 3 cells of the surface are exact; farther ones have the right
+    sign and a lower bound of the distance (one query per 8³ block), unless
+    ``exact_everywhere``. Returns ``(volume, spacing, origin, stats)`` with ``volume[i, j, k]``
+    at ``origin + (i, j, k) * spacing`` (float32), ready for :func:`marching_cubes`.
+
+    Raises ValueError when the mesh is open or empty (an open surface has no inside; the
+    message names a boundary edge) or the resolution is outside [8, 4096].
+    """
+    return _geom.signed_distance_grid(mesh, int(resolution), float(level), bool(exact_everywhere))
+
+
+def mesh_isosurface(mesh, resolution=128, level=0.0, **options):
+    """The ``level`` iso-surface of the signed distance to the closed ``mesh``: a voxel
+    remesh at level 0, an offset surface for level > 0, an inset for level < 0. Same options
+    and result as :func:`marching_cubes`.
+    """
+    volume, spacing, origin, _ = signed_distance_grid(mesh, resolution, level)
+    return marching_cubes(volume, level, spacing, origin, **options)

@@ -84,3 +84,81 @@ def test_empty_and_errors():
         geom.marching_cubes(sphere_volume(8), smooth=True)
     with pytest.raises(ValueError):
         geom.isosurface(lambda x, y, z: x, ((0, 0, 0), (1, 1, 1)), 1)
+
+
+def cube_mesh(h=0.5):
+    corners = np.array([[(c & 1) * 2 * h - h, (c >> 1 & 1) * 2 * h - h, (c >> 2 & 1) * 2 * h - h]
+                        for c in range(8)], float)
+    quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+    tris = [[q[0], q[1], q[2]] for q in quads] + [[q[0], q[2], q[3]] for q in quads]
+    return geom.Mesh(corners, np.array(tris))
+
+
+def box_sdf(p, h=0.5):
+    q = np.abs(p) - h
+    return np.linalg.norm(np.maximum(q, 0), axis=-1) + np.minimum(q.max(axis=-1), 0)
+
+
+def test_signed_distance_grid_of_a_cube_is_exact_and_feeds_marching_cubes():
+    volume, spacing, origin, stats = geom.signed_distance_grid(cube_mesh(), 24, exact_everywhere=True)
+    assert volume.dtype == np.float32 and volume.shape == (24, 24, 24)
+    assert stats["exact_samples"] == stats["samples"] == 24 ** 3
+    idx = np.indices(volume.shape).reshape(3, -1).T
+    points = np.asarray(origin) + idx * np.asarray(spacing)
+    want = box_sdf(points)
+    assert np.abs(volume.reshape(-1) - want).max() < 1e-6
+    s = geom.marching_cubes(volume, 0.0, spacing, origin)
+    repeated, open_edges = edge_counts(s.faces)
+    assert repeated == 0 and open_edges == 0
+    # Exact on the faces; marching cubes cuts the cube's edges by less than a cell.
+    assert np.abs(box_sdf(s.vertices)).max() < 0.5 * spacing[0]
+
+
+def test_mesh_isosurface_offsets_a_sphere_mesh():
+    sphere = geom.isosurface(lambda x, y, z: np.sqrt(x * x + y * y + z * z) - 0.7,
+                             ((-1, -1, -1), (1, 1, 1)), 48).to_mesh()
+    for level in (0.0, 0.2, -0.2):
+        s = geom.mesh_isosurface(sphere, 40, level)
+        repeated, open_edges = edge_counts(s.faces)
+        assert repeated == 0 and open_edges == 0
+        r = np.linalg.norm(s.vertices, axis=1)
+        assert np.abs(r - (0.7 + level)).max() < 0.015
+        assert s.stats.closed
+
+
+def test_signed_distance_of_an_open_mesh_is_an_error():
+    triangle = geom.Mesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float), [[0, 1, 2]])
+    with pytest.raises(ValueError, match="closed mesh.*3 boundary edges"):
+        geom.signed_distance_grid(triangle, 16)
+    with pytest.raises(ValueError, match="resolution"):
+        geom.signed_distance_grid(cube_mesh(), 4)
+
+
+def test_cli_sdf_offset_and_errors(run, meshes, tmp_path):
+    out = tmp_path / "offset.ply"
+    r = run("isosurface", "--sdf", meshes["tetrahedron"], "--resolution", "40", "--level", "0.1",
+            "-o", out, "--json")
+    assert r.returncode == 0, r.stderr
+    import json
+    stats = json.loads(r.stdout)
+    assert stats["closed"] and stats["euler_characteristic"] == 2
+    assert stats["signed_distance"]["exact_samples"] < stats["signed_distance"]["samples"]
+    assert geom.load(out).n_faces == stats["triangles"]
+    r = run("isosurface", "--sdf", meshes["triangle"], "--resolution", "16", "-o", tmp_path / "x.ply")
+    assert r.returncode == 1
+    assert "triangle.obj" in r.stderr and "closed mesh" in r.stderr
+    r = run("isosurface", "--sdf", meshes["tetrahedron"], "--implicit", "sphere", "-o", out)
+    assert r.returncode == 2
+
+
+def test_cli_implicit_torus_and_nan_grid(run, tmp_path):
+    import json
+    r = run("isosurface", "--implicit", "torus", "--resolution", "48", "-o", tmp_path / "t.ply", "--json")
+    assert r.returncode == 0, r.stderr
+    stats = json.loads(r.stdout)
+    assert stats["closed"] and stats["euler_characteristic"] == 0 and "tunnels" in stats
+    vol = sphere_volume(8)
+    vol[1, 2, 3] = np.nan
+    np.save(tmp_path / "nan.npy", vol)
+    r = run("isosurface", tmp_path / "nan.npy", "-o", tmp_path / "n.ply")
+    assert r.returncode == 1 and "NaN" in r.stderr
