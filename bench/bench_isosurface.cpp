@@ -1,16 +1,26 @@
 // Marching cubes: geom (1 thread and TBB) against scikit-image's marching_cubes (a Python
 // subprocess on the same .npy field, timing only the call) and OpenVDB's volumeToMesh (on a
 // narrow-band grid built from the same field, build not timed), with the same topology checks
-// applied to every output. Then the accuracy-versus-time table for geom.
+// applied to every output. Then the accuracy-versus-time table for geom: resolution 32…512
+// against time, triangles, vertex distance to the analytic sphere/torus and the sampled
+// symmetric Hausdorff distance to it. Then the signed distance to a mesh (--sdf) at 128…512:
+// sampling time, exact samples, time of the extraction.
 //
 // usage: bench_isosurface [--sizes 256,512] [--repeats N] [--no-skimage] [--no-openvdb]
-// CSV: isosurface.csv, isosurface_accuracy.csv in $GEOM_BENCH_OUT (default ./bench-out).
+// CSV: isosurface.csv, isosurface_accuracy.csv, isosurface_sdf.csv in $GEOM_BENCH_OUT
+// (default ./bench-out).
+// PNG (what accuracy costs in time), one command:
+//   bench/plot.py bench-out/isosurface_accuracy.csv --x ours_1t_ms --y hausdorff --group field
+//       --logx --logy --title "marching cubes: Hausdorff distance against time (32..512)"
+//       -o bench-out/isosurface_accuracy.png
 
 #include "support/harness.h"
 
 #include <geom/io/grid.h>
 #include <geom/isosurface/implicit.h>
 #include <geom/isosurface/marching_cubes.h>
+#include <geom/isosurface/mesh_sdf.h>
+#include <geom/spatial/bvh.h>
 
 #ifdef GEOM_BENCH_HAVE_OPENVDB
 #include <openvdb/openvdb.h>
@@ -26,6 +36,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -248,6 +259,59 @@ PeerResult run_openvdb(const ScalarGrid& g, double level, int repeats) {
 
 double ms(double s) { return 1000.0 * s; }
 
+/// Sampled symmetric Hausdorff distance between an extracted surface and the analytic one
+/// (f an exact signed distance): surface → analytic exactly by |f| at every vertex and at
+/// `samples` area-weighted random points on the triangles; analytic → surface by
+/// closest-point queries on a BVH of the output (geom/spatial, as `geom compare`) from
+/// `samples` points spread uniformly by area over the analytic surface.
+double hausdorff(const IsoSurface& s, const ScalarFunction& f,
+                 const std::function<Point(std::mt19937_64&)>& on_surface, std::size_t samples) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double worst = 0;
+  for (const Point& p : s.positions) worst = std::max(worst, std::abs(f(p)));
+  std::vector<double> cumulative(s.triangles.size());
+  double total = 0;
+  for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+    const auto& t = s.triangles[i];
+    total += (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]).norm();
+    cumulative[i] = total;
+  }
+  for (std::size_t k = 0; k < samples && total > 0; ++k) {
+    auto it = std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * total);
+    const auto& t = s.triangles[std::min<std::size_t>(it - cumulative.begin(), s.triangles.size() - 1)];
+    double a = u(rng), b = u(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    Point p = s.positions[t[0]] + a * (s.positions[t[1]] - s.positions[t[0]]) +
+              b * (s.positions[t[2]] - s.positions[t[0]]);
+    worst = std::max(worst, std::abs(f(p)));
+  }
+  TriangleBvh bvh(s.positions, s.triangles);
+  for (std::size_t k = 0; k < samples; ++k)
+    worst = std::max(worst, std::sqrt(bvh.distance_squared(on_surface(rng))));
+  return worst;
+}
+
+/// Uniform (by area) points on the sphere |p| = r.
+Point on_sphere(std::mt19937_64& rng, double r) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Point p(n(rng), n(rng), n(rng));
+  return r * p.normalized();
+}
+
+/// Uniform (by area) points on the torus around z: the tube angle is accepted with
+/// probability proportional to the distance from the axis.
+Point on_torus(std::mt19937_64& rng, double major, double minor) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double two_pi = 2 * std::acos(-1.0);
+  for (;;) {
+    double theta = two_pi * u(rng), phi = two_pi * u(rng);
+    double ring = major + minor * std::cos(phi);
+    if (u(rng) * (major + minor) > ring) continue;
+    return Point(ring * std::cos(theta), ring * std::sin(theta), minor * std::sin(phi));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -319,7 +383,8 @@ int main(int argc, char** argv) {
 
   // What accuracy costs in time: vertex distance to the analytic surface (in units of the
   // box half-width 1, and of the grid step h).
-  geom::bench::Table acc({"field", "n", "h", "ours_1t_ms", "tris", "max_dist", "mean_dist", "max_dist/h"});
+  geom::bench::Table acc({"field", "n", "h", "ours_1t_ms", "tris", "max_dist", "mean_dist", "max_dist/h",
+                          "hausdorff", "hausdorff/h"});
   std::vector<std::size_t> res = {32, 64, 128, 256, 512};
   for (const char* name : {"sphere", "torus"}) {
     ScalarFunction f = std::string(name) == "sphere" ? ScalarFunction(implicit::Sphere{Eigen::Vector3d::Zero(), 0.8})
@@ -337,11 +402,41 @@ int main(int argc, char** argv) {
       }
       mean /= double(std::max<std::size_t>(1, s.positions.size()));
       double h = 2.0 / double(n - 1);
+      const bool sphere = std::string(name) == "sphere";
+      double hd = hausdorff(
+          s, f,
+          [&](std::mt19937_64& rng) { return sphere ? on_sphere(rng, 0.8) : on_torus(rng, 0.6, 0.25); },
+          200000);
       acc.add({name, std::to_string(n), fmt(h, 4), fmt(ms(t)), std::to_string(s.triangles.size()), fmt(mx, 4),
-               fmt(mean, 4), fmt(mx / h, 4)});
+               fmt(mean, 4), fmt(mx / h, 4), fmt(hd, 4), fmt(hd / h, 4)});
     }
   }
   acc.print();
   acc.write_csv(geom::bench::out_dir() / "isosurface_accuracy.csv");
+
+  // Signed distance to a mesh: a 0.8-sphere extracted at 256³ (~0.5 M triangles) resampled
+  // at 128…512 (sampling time, how many samples needed their own query, extraction time,
+  // and the vertex distance of the result to the analytic sphere).
+  {
+    SurfaceMesh input = marching_cubes(sample(implicit::Sphere{Eigen::Vector3d::Zero(), 0.8}, cube_box(1.0, 256)).view()).mesh;
+    MeshSignedDistance distance(input);
+    geom::bench::Table sdf({"input_tris", "n", "sdf_ms", "samples", "exact_samples", "exact_%", "mc_1t_ms",
+                            "tris", "max_dist"});
+    for (std::size_t n : {128, 256, 512}) {
+      if (n > *std::max_element(sizes.begin(), sizes.end())) continue;
+      MeshSdf grid;
+      double ts = time_min([&] { grid = signed_distance_grid(distance, {.resolution = n}); }, std::max(1, repeats / 2));
+      IsoSurface s;
+      double tm = time_min([&] { s = marching_cubes_arrays(grid.grid.view(), {.parallel = false}); }, repeats);
+      double mx = 0;
+      for (const Point& p : s.positions) mx = std::max(mx, std::abs(p.norm() - 0.8));
+      sdf.add({std::to_string(input.n_faces()), std::to_string(n), fmt(ms(ts)), std::to_string(grid.stats.samples),
+               std::to_string(grid.stats.exact_samples),
+               fmt(100.0 * double(grid.stats.exact_samples) / double(grid.stats.samples), 3), fmt(ms(tm)),
+               std::to_string(s.triangles.size()), fmt(mx, 4)});
+    }
+    sdf.print();
+    sdf.write_csv(geom::bench::out_dir() / "isosurface_sdf.csv");
+  }
   return 0;
 }
