@@ -4,9 +4,9 @@
 usage (from the repository root, after ./scripts/build):
     PYTHONPATH=build/python GEOM_BIN=build/cli/geom bench/bench_batch.py [--count 1000]
 
-The corpus holds generated tori (marching cubes, 560 to 24k triangles, in OBJ, PLY, OFF, STL and GLB) plus
-every mesh in $GEOM_DATA_DIR (default ../shared/meshes), linked in. The pipeline is
-"repair -> simplify --ratio 0.5 -> compress --bits 12". The runs are:
+The corpus holds generated tori (marching cubes, 560 to 24k triangles, in OBJ, PLY, OFF,
+STL and GLB) plus the meshes at the top of $GEOM_DATA_DIR (default ../shared/meshes), linked
+in. The pipeline is "repair -> simplify --ratio 0.5 -> compress --bits 12". The runs are:
   - `geom batch` with --jobs 1 and --jobs 2 (threads in one process);
   - geom.batch.run with a local process pool of 2;
   - geom.batch.run on a Dask LocalCluster with 2 single-threaded worker processes.
