@@ -6,13 +6,19 @@
 ///
 /// Sign: from the angle-weighted pseudo-normal at the closest point (face normal inside a
 /// triangle, sum of the two face normals on an edge, angle-weighted sum on a vertex); for a
-/// closed, consistently oriented mesh (q − p)·n > 0 exactly when q is outside, with no ray
-/// casting and no parity ambiguity. Negative inside, positive outside, as the built-in
-/// implicits. An inside-out mesh (normals pointing in) gives the negated field. Limitation:
-/// where the input folds at the precision of its coordinates (sliver triangles in hole
-/// fills, e.g. shared bunny_closed.off), a sample whose closest point is on the fold can get
-/// the wrong sign and show up as a tiny extra component of the iso-surface; a generalized
-/// winding number fallback for such queries is the known remedy (not done).
+/// closed, consistently oriented, self-intersection-free mesh (q − p)·n > 0 exactly when q
+/// is outside, with no ray casting and no parity ambiguity. Negative inside, positive
+/// outside, as the built-in implicits. An inside-out mesh (normals pointing in) gives the
+/// negated field. The closest feature (face, edge, corner) is found by the closest point's
+/// distance to the edges and corners, not by its barycentric coordinates, which on a sliver
+/// misread an edge point as interior. Where the pseudo-normal is not trustworthy — the
+/// closest triangle has a corner on a fold (an edge whose two faces lie back to back,
+/// within ~11° of a full fold, as in the hole-fill fans of shared bunny_closed.off that
+/// overlap themselves), or the offset is nearly perpendicular to it — the sign comes from
+/// the generalized winding number, O(F) per such query; within a grid, a query whose
+/// surface-free ball overlaps that of a recent query reuses its sign instead. Limitation:
+/// where a mesh passes through itself with no fold edge nearby (two sheets crossing), the
+/// pseudo-normal is still used and the sign near the crossing can be wrong.
 ///
 /// Only the work the surface needs: the grid is cut into 8³-sample blocks and one exact
 /// query at each block centre bounds the distance of all its samples (the distance is
@@ -24,7 +30,9 @@
 /// differences used for vertex normals, see exact values.
 ///
 /// Ref: Bærentzen, Aanæs, "Signed distance computation using the angle weighted
-/// pseudonormal", IEEE TVCG 2005.
+/// pseudonormal", IEEE TVCG 2005; Jacobson, Kavan, Sorkine-Hornung, "Robust inside-outside
+/// segmentation using generalized winding numbers", SIGGRAPH 2013; Van Oosterom, Strackee,
+/// "The solid angle of a plane triangle", IEEE Trans. Biomed. Eng. 1983.
 
 #include <geom/core/surface_mesh.h>
 #include <geom/isosurface/grid.h>
@@ -47,7 +55,8 @@ class MeshSignedDistance {
   /// Complexity: O(F log F).
   explicit MeshSignedDistance(const SurfaceMesh& mesh);
 
-  /// Signed distance from p (negative inside). Complexity: O(log F) typical.
+  /// Signed distance from p (negative inside). Complexity: O(log F) typical; O(F) when the
+  /// closest feature touches a fold (see the file comment).
   double operator()(const Eigen::Vector3d& p) const;
   /// The nearest surface point and the sign of p relative to it (+1 outside or on the
   /// surface, −1 inside). Searches only within max_distance (returns sign 0 when nothing
@@ -56,18 +65,36 @@ class MeshSignedDistance {
     ClosestPoint closest;
     int sign = 0;
   };
+  /// Balls free of surface and the sign of their points, from the last few queries; a
+  /// later query that would need the winding number reuses the sign of one its own empty
+  /// ball overlaps. Pass one per thread to a run of nearby queries (a grid does).
+  struct SignMemo {
+    static constexpr int kSize = 8;
+    std::array<Eigen::Vector3d, kSize> centre;
+    std::array<double, kSize> radius{};
+    std::array<int, kSize> sign{};  ///< 0: empty slot
+    int next = 0;                   ///< slot to overwrite
+  };
   Query query(const Eigen::Vector3d& p,
-              double max_distance = std::numeric_limits<double>::infinity()) const;
+              double max_distance = std::numeric_limits<double>::infinity(),
+              SignMemo* memo = nullptr) const;
+
+  /// Generalized winding number of the surface around p (1 inside, 0 outside a closed,
+  /// outward-oriented mesh; overlapping layers count with their orientation).
+  /// Complexity: O(F).
+  double winding_number(const Eigen::Vector3d& p) const;
 
   const TriangleBvh& bvh() const { return bvh_; }
 
  private:
   Eigen::Vector3d pseudo_normal(std::uint32_t triangle, const Point& on_triangle) const;
+  void mark_folds();
 
   TriangleBvh bvh_;
   std::vector<Eigen::Vector3d> face_normals_;                 ///< per BVH triangle
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normals_;  ///< edge k joins corners k, k+1
   std::vector<Eigen::Vector3d> vertex_normals_;               ///< per position
+  std::vector<char> near_fold_;  ///< per BVH triangle: a corner ends a folded edge
 };
 
 struct MeshSdfOptions {
