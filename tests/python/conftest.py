@@ -33,6 +33,25 @@ except ImportError:
     sys.path.insert(0, str(_path_from_env("GEOM_PYTHON_DIR", "build/python")))
 
 
+def torus_mesh(nu=24, nv=12, R=1.0, r=0.35, lumps=0.05):
+    """A closed genus-1 triangle mesh of 2·nu·nv faces (nu·nv vertices, i-major), on a torus
+    made lumpy by `lumps` so that it is nowhere flat. Shared by the Python tests."""
+    import numpy as np
+    import geom
+    a = 2 * np.pi * np.arange(nu) / nu
+    b = 2 * np.pi * np.arange(nv) / nv
+    A, B = np.meshgrid(a, b, indexing="ij")
+    rr = r + lumps * np.sin(3 * A) * np.cos(2 * B)
+    vertices = np.stack([(R + rr * np.cos(B)) * np.cos(A), (R + rr * np.cos(B)) * np.sin(A),
+                         rr * np.sin(B)], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    at = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
+    faces = np.concatenate([
+        np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1)], -1).reshape(-1, 3),
+        np.stack([at(i, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 3)])
+    return geom.Mesh(vertices, faces)
+
+
 # Small meshes as OBJ text, shared by the CLI and io tests.
 TETRAHEDRON_OBJ = """v 0 0 0
 v 1 0 0

@@ -14,23 +14,15 @@ import pytest
 
 import geom
 import geom.batch
-from conftest import GEOM_BIN
+from conftest import GEOM_BIN, torus_mesh
 
 PIPELINE = {"steps": ["repair", "subdivide --levels 1", "simplify --ratio 0.5",
                       "convert --format ply"]}
 
 
-def torus(n, m, R=2.0, r=0.7):
+def torus(n, m):
     """A closed triangulated torus: n*m vertices, 2*n*m triangles, genus 1."""
-    u, v = np.meshgrid(np.arange(n) * 2 * np.pi / n, np.arange(m) * 2 * np.pi / m, indexing="ij")
-    pts = np.stack([(R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u),
-                    r * np.sin(v)], axis=-1).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
-    a, b = i * m + j, ((i + 1) % n) * m + j
-    c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
-    tris = np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)]).reshape(-1, 3)
-    return geom.Mesh(pts, tris.astype(np.int64))
-
+    return torus_mesh(n, m, R=2.0, r=0.7, lumps=0.0)
 
 BROKEN = {
     "bad_index.obj": "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",

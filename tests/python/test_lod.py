@@ -4,24 +4,7 @@ import numpy as np
 import pytest
 
 import geom
-
-
-def torus(nu=24, nv=12):
-    """A closed genus-1 triangle mesh with 2·nu·nv faces, on a lumpy (non-flat) torus."""
-    a = 2 * np.pi * np.arange(nu) / nu
-    b = 2 * np.pi * np.arange(nv) / nv
-    A, B = np.meshgrid(a, b, indexing="ij")
-    r = 0.35 + 0.05 * np.sin(3 * A) * np.cos(2 * B)
-    x = (1 + r * np.cos(B)) * np.cos(A)
-    y = (1 + r * np.cos(B)) * np.sin(A)
-    z = r * np.sin(B)
-    vertices = np.stack([x, y, z], axis=-1).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
-    at = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
-    faces = np.concatenate([
-        np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1)], -1).reshape(-1, 3),
-        np.stack([at(i, j), at(i + 1, j + 1), at(i, j + 1)], -1).reshape(-1, 3)])
-    return geom.Mesh(vertices, faces)
+from conftest import torus_mesh as torus
 
 
 def grid(n=12):
