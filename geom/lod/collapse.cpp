@@ -8,6 +8,10 @@
 #include <string>
 #include <unordered_set>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace geom::detail {
 
 namespace {
@@ -40,6 +44,18 @@ std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
   return 0;
 }
 
+// Ask Linux for transparent huge pages on the whole 2 MiB pages of [data, data + bytes)
+// (only a hint; most systems grant them only on request): random reads over arrays of
+// hundreds of megabytes otherwise miss the TLB as well as the cache.
+void advise_huge_pages([[maybe_unused]] const void* data, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kPage = std::uintptr_t{1} << 21;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
+
 }  // namespace
 
 CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options,
@@ -63,6 +79,7 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   }
   const std::size_t n = vertex_of_.size();
   triangles_.reserve(mesh.n_faces() * 2);
+  advise_huge_pages(triangles_.data(), triangles_.capacity() * sizeof(triangles_[0]));
   std::vector<Vertex> corners;
   std::unordered_set<std::uint64_t> diagonals;
   for (Face f : mesh.faces()) {
@@ -91,78 +108,77 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     scale_ = diag > 0 && std::isfinite(diag) ? diag : 1.0;
   }
   model_ = original_positions_;
-  pos_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) pos_[i] = (model_[i] - center_) / scale_;
+  // Huge pages: the main loop reads these arrays at random, one neighbourhood per collapse.
+  vd_.reserve(n);
+  advise_huge_pages(vd_.data(), n * sizeof(VertexData));
+  vd_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) vd_[i].p = (model_[i] - center_) / scale_;
 
-  quadric_.assign(n, Quadric{});
   weight_.assign(n, 0.0);
   stamp_.assign(n, 0);
-  tri_count_.assign(n, 0);
-  boundary_.assign(n, 0);
-  locked_.assign(n, 0);
-  retry_.assign(n, 0);
-  mark_.assign(n, 0);
+  queue_.watch(stamp_.data());
   for (Vertex v : options.locked)
-    if (mesh.is_valid(v) && dense[v.idx()] != kNone) locked_[dense[v.idx()]] = 1;
+    if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;
 
-  ref_begin_.assign(n, 0);
-  ref_size_.assign(n, 0);
+  std::vector<std::uint32_t> count(n, 0);
   for (const auto& t : triangles_)
-    for (std::uint32_t v : t) ++tri_count_[v];
+    for (std::uint32_t v : t) ++count[v];
   std::uint32_t offset = 0;
-  for (std::size_t v = 0; v < n; ++v) ref_begin_[v] = offset, offset += tri_count_[v];
+  for (std::size_t v = 0; v < n; ++v) vd_[v].ref_begin = offset, offset += count[v];
   refs_.reserve(3 * static_cast<std::size_t>(offset) + 64);
+  advise_huge_pages(refs_.data(), refs_.capacity() * sizeof(std::uint32_t));
   refs_.resize(offset);
   for (std::uint32_t t = 0; t < triangles_.size(); ++t)
-    for (std::uint32_t v : triangles_[t]) refs_[ref_begin_[v] + ref_size_[v]++] = t;
+    for (std::uint32_t v : triangles_[t]) refs_[vd_[v].ref_begin + vd_[v].ref_size++] = t;
 
   for (const auto& t : triangles_) {
-    const Point &a = pos_[t[0]], &b = pos_[t[1]], &c = pos_[t[2]];
+    const Point &a = vd_[t[0]].p, &b = vd_[t[1]].p, &c = vd_[t[2]].p;
     const Eigen::Vector3d nrm = (b - a).cross(c - a);
     const double len = nrm.norm();
     if (!(len > 0) || !std::isfinite(len)) continue;
     const Eigen::Vector3d unit = nrm / len;
     const double area = 0.5 * len;
     const Quadric q = Quadric::plane_through(a, unit, area);
-    for (std::uint32_t v : t) quadric_[v] += q, weight_[v] += area;
+    for (std::uint32_t v : t) vd_[v].q += q, weight_[v] += area;
   }
 
   // Boundary edges: a→b with no triangle b→a around a. Each gets a constraint plane
   // through the edge, perpendicular to its face, weighted like an area (length²).
   for (std::uint32_t a = 0; a < n; ++a) {
-    for (std::uint32_t i = ref_begin_[a]; i < ref_begin_[a] + ref_size_[a]; ++i) {
+    for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i) {
       const auto& t = triangles_[refs_[i]];
       const int k = t[0] == a ? 0 : t[1] == a ? 1 : 2;
       const std::uint32_t b = t[(k + 1) % 3];
       bool twin = false;
-      for (std::uint32_t j = ref_begin_[a]; j < ref_begin_[a] + ref_size_[a] && !twin; ++j) {
+      for (std::uint32_t j = vd_[a].ref_begin; j < vd_[a].ref_begin + vd_[a].ref_size && !twin; ++j) {
         const auto& s = triangles_[refs_[j]];
         const int m = s[0] == a ? 0 : s[1] == a ? 1 : 2;
         twin = s[(m + 2) % 3] == b;
       }
       if (twin) continue;
-      boundary_[a] = boundary_[b] = 1;
-      const Eigen::Vector3d e = pos_[b] - pos_[a];
-      const Eigen::Vector3d fn = e.cross(pos_[t[(k + 2) % 3]] - pos_[a]);
+      vd_[a].boundary = vd_[b].boundary = 1;
+      const Eigen::Vector3d e = vd_[b].p - vd_[a].p;
+      const Eigen::Vector3d fn = e.cross(vd_[t[(k + 2) % 3]].p - vd_[a].p);
       Eigen::Vector3d cn = e.cross(fn);
       const double len = cn.norm();
       if (options.boundary_weight > 0 && len > 0 && std::isfinite(len)) {
         cn /= len;
-        const Quadric q = Quadric::plane_through(pos_[a], cn, options.boundary_weight * e.squaredNorm());
-        quadric_[a] += q;
-        quadric_[b] += q;
+        const Quadric q = Quadric::plane_through(vd_[a].p, cn, options.boundary_weight * e.squaredNorm());
+        vd_[a].q += q;
+        vd_[b].q += q;
       }
     }
   }
   if (options.lock_boundary)
-    for (std::size_t v = 0; v < n; ++v) locked_[v] |= boundary_[v];
+    for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
+  if (options.attributes.any() && !record_) init_attributes(mesh);
 
   for (std::uint32_t a = 0; a < n; ++a) {
     ++mark_token_;
-    for (std::uint32_t i = ref_begin_[a]; i < ref_begin_[a] + ref_size_[a]; ++i)
+    for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i)
       for (std::uint32_t b : triangles_[refs_[i]])
-        if (b > a && mark_[b] != mark_token_ && !(locked_[a] && locked_[b])) {
-          mark_[b] = mark_token_;
+        if (b > a && vd_[b].mark != mark_token_ && !(vd_[a].locked && vd_[b].locked)) {
+          vd_[b].mark = mark_token_;
           queue_.push({static_cast<float>(place(a, b).cost), a, b, 0});
         }
   }
@@ -188,48 +204,70 @@ void CollapseEngine::RadixQueue::push(Candidate c) {
   ++size_;
 }
 
+bool CollapseEngine::RadixQueue::current(const Candidate& c) const {
+  return c.stamps == stamps_[c.a] + stamps_[c.b];
+}
+
 void CollapseEngine::RadixQueue::settle() {
-  if (buckets_[0].empty()) {
+  while (buckets_[0].empty() && size_ > 0) {
     int i = 1;
     while (buckets_[i].empty()) ++i;
     // Every entry of bucket i shares the bits above i with last_; the new minimum splits
-    // them into lower buckets, each entry moving at least one bucket down.
+    // them into lower buckets, each entry moving at least one bucket down. Outdated entries
+    // are dropped on the way, their stamps fetched well ahead so that the misses overlap.
     std::vector<Candidate>& from = buckets_[i];
-    std::uint32_t lowest = key(from.front().cost);
-    for (const Candidate& c : from) lowest = std::min(lowest, key(c.cost));
+    std::uint32_t lowest = 0xffffffffu;
+    std::size_t kept = 0;
+    const std::size_t n = from.size();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j + 16 < n) {
+        __builtin_prefetch(&stamps_[from[j + 16].a]);
+        __builtin_prefetch(&stamps_[from[j + 16].b]);
+      }
+      if (!current(from[j])) continue;
+      lowest = std::min(lowest, key(from[j].cost));
+      from[kept++] = from[j];
+    }
+    size_ -= n - kept;
+    from.resize(kept);
+    if (kept == 0) continue;
     last_ = lowest;
     for (const Candidate& c : from) buckets_[bucket(key(c.cost))].push_back(c);
     from.clear();
   }
 }
 
-CollapseEngine::Candidate CollapseEngine::RadixQueue::pop() {
-  settle();
-  const Candidate c = buckets_[0].back();
-  buckets_[0].pop_back();
-  --size_;
-  return c;
+bool CollapseEngine::RadixQueue::pop(Candidate& out) {
+  for (;;) {
+    settle();
+    if (size_ == 0) return false;
+    out = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    if (current(out)) return true;
+  }
 }
 
 CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b) const {
-  Quadric q = quadric_[a];
-  q += quadric_[b];
-  if (locked_[a]) return {q.evaluate(pos_[a]), pos_[a], 1};
-  if (locked_[b]) return {q.evaluate(pos_[b]), pos_[b], 2};
-  const Point mid = 0.5 * (pos_[a] + pos_[b]);
+  Quadric q = vd_[a].q;
+  q += vd_[b].q;
+  if (attributes_) [[unlikely]] return place_with_attributes(a, b, q);
+  if (vd_[a].locked) return {q.evaluate(vd_[a].p), vd_[a].p, 1};
+  if (vd_[b].locked) return {q.evaluate(vd_[b].p), vd_[b].p, 2};
+  const Point mid = 0.5 * (vd_[a].p + vd_[b].p);
   // Differences below the evaluation's round-off (coordinates are within the unit box)
   // are ties.
   const double noise = 1e-12 * (q.a00 + q.a11 + q.a22 + std::abs(q.b0) + std::abs(q.b1) +
                                 std::abs(q.b2) + std::abs(q.c));
-  Placement best{q.evaluate(pos_[a]), pos_[a], 1};
-  const double cb = q.evaluate(pos_[b]);
-  if (cb < best.cost - noise) best = {cb, pos_[b], 2};
+  Placement best{q.evaluate(vd_[a].p), vd_[a].p, 1};
+  const double cb = q.evaluate(vd_[b].p);
+  if (cb < best.cost - noise) best = {cb, vd_[b].p, 2};
   const double cm = q.evaluate(mid);
   if (cm < best.cost - noise) best = {cm, mid, 3};
   const Point opt = q.minimizer(mid);
   // The optimum must stay near the edge: a far-away minimiser of a nearly singular quadric
   // is numerically meaningless even when finite.
-  const double reach = 4.0 * (pos_[a] - pos_[b]).squaredNorm();
+  const double reach = 4.0 * (vd_[a].p - vd_[b].p).squaredNorm();
   if ((opt - mid).squaredNorm() <= reach) {
     // Ties (within round-off) go to the endpoint: its position is then kept bit-exact,
     // which matters on flat regions and at corners where every choice costs ~0.
@@ -240,29 +278,37 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
 }
 
 void CollapseEngine::push_edge(std::uint32_t a, std::uint32_t b) {
-  if (locked_[a] && locked_[b]) return;
+  if (vd_[a].locked && vd_[b].locked) return;
   queue_.push({static_cast<float>(place(a, b).cost), a, b, stamp_[a] + stamp_[b]});
 }
 
 void CollapseEngine::push_vertex_edges(std::uint32_t v) {
   ++mark_token_;
-  mark_[v] = mark_token_;
+  vd_[v].mark = mark_token_;
   // Gather first and prefetch the neighbours' quadrics: their cache misses then overlap
   // instead of stalling one placement after another.
   neighbours_.clear();
-  for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
+  for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (!tri_alive_[t]) continue;
     for (std::uint32_t w : triangles_[t])
-      if (mark_[w] != mark_token_) {
-        mark_[w] = mark_token_;
+      if (vd_[w].mark != mark_token_) {
+        vd_[w].mark = mark_token_;
         neighbours_.push_back(w);
-        __builtin_prefetch(&quadric_[w]);
-        __builtin_prefetch(&quadric_[w].b1);
-        __builtin_prefetch(&pos_[w]);
+        __builtin_prefetch(&vd_[w].q);
+        __builtin_prefetch(&vd_[w].q.b1);
+        __builtin_prefetch(&vd_[w].p);
       }
   }
   for (std::uint32_t w : neighbours_) push_edge(v, w);
+}
+
+void CollapseEngine::drop_ref(std::uint32_t w, std::uint32_t t) {
+  // Order-preserving: traversal order decides ties, so it stays what it was.
+  std::uint32_t* list = refs_.data() + vd_[w].ref_begin;
+  std::uint32_t* end = list + vd_[w].ref_size;
+  std::uint32_t* at = std::find(list, end, t);
+  std::copy(at + 1, end, at);
+  --vd_[w].ref_size;
 }
 
 bool CollapseEngine::has_tri_with(std::uint32_t t, std::uint32_t x) const {
@@ -275,35 +321,32 @@ bool CollapseEngine::has_tri_with(std::uint32_t t, std::uint32_t x) const {
 bool CollapseEngine::face_ok(std::uint32_t t, std::uint32_t moved, const Point& p) const {
   const auto& tri = triangles_[t];
   const int k = tri[0] == moved ? 0 : tri[1] == moved ? 1 : 2;
-  const Point& a = pos_[tri[0]];
-  const Point& b = pos_[tri[1]];
-  const Point& c = pos_[tri[2]];
+  const Point& a = vd_[tri[0]].p;
+  const Point& b = vd_[tri[1]].p;
+  const Point& c = vd_[tri[2]].p;
   const Eigen::Vector3d n0 = (b - a).cross(c - a);
   const Point& a1 = k == 0 ? p : a;
   const Point& b1 = k == 1 ? p : b;
   const Point& c1 = k == 2 ? p : c;
   const Eigen::Vector3d n1 = (b1 - a1).cross(c1 - a1);
-  const double l0 = n0.norm(), l1 = n1.norm();
-  if (l0 > 0 && !(n0.dot(n1) > 0)) return false;
-  const double q1 = quality(a1, b1, c1, l1);
-  if (q1 < options_.min_triangle_quality && q1 < quality(a, b, c, l0)) return false;
-  return true;
+  if (n0.squaredNorm() > 0 && !(n0.dot(n1) > 0)) return false;
+  const double q1 = quality(a1, b1, c1, n1.norm());
+  return !(q1 < options_.min_triangle_quality && q1 < quality(a, b, c, n0.norm()));
 }
 
 void CollapseEngine::ensure_refs(std::size_t extra) {
   if (refs_.size() + extra <= refs_.capacity()) return;
-  // Out of room: rewrite every live list without its dead triangles into a fresh array with
-  // slack, so this (rare) reallocation is amortised over many collapses.
+  // Out of room: rewrite the lists of live vertices, without the space of removed ones and of
+  // superseded lists, into a fresh array with slack, so that this (rare) reallocation is
+  // amortised over many collapses.
   std::size_t live = 0;
-  for (std::size_t v = 0; v < ref_size_.size(); ++v) live += tri_count_[v];
+  for (const VertexData& d : vd_) live += d.ref_size;
   std::vector<std::uint32_t> fresh;
   fresh.reserve(std::max(refs_.capacity(), 2 * live + extra + 64));
-  for (std::size_t v = 0; v < ref_begin_.size(); ++v) {
-    const std::uint32_t begin = ref_begin_[v], size = ref_size_[v];
-    ref_begin_[v] = static_cast<std::uint32_t>(fresh.size());
-    for (std::uint32_t i = begin; i < begin + size; ++i)
-      if (tri_alive_[refs_[i]]) fresh.push_back(refs_[i]);
-    ref_size_[v] = static_cast<std::uint32_t>(fresh.size()) - ref_begin_[v];
+  for (std::size_t v = 0; v < vd_.size(); ++v) {
+    const std::uint32_t begin = vd_[v].ref_begin, size = vd_[v].ref_size;
+    vd_[v].ref_begin = static_cast<std::uint32_t>(fresh.size());
+    fresh.insert(fresh.end(), refs_.begin() + begin, refs_.begin() + begin + size);
   }
   refs_.swap(fresh);
 }
@@ -312,34 +355,33 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   // 1 = ok, 0 = topologically or geometrically invalid, 2 = over max_error.
   std::uint32_t opposite[2] = {kNone, kNone};
   int n_shared = 0;
-  for (std::uint32_t i = ref_begin_[u]; i < ref_begin_[u] + ref_size_[u]; ++i) {
+  for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (!tri_alive_[t] || !has_tri_with(t, v)) continue;
+    if (!has_tri_with(t, v)) continue;
     if (n_shared == 2) return 0;
     const auto& tri = triangles_[t];
     opposite[n_shared++] = tri[0] != u && tri[0] != v ? tri[0] : tri[1] != u && tri[1] != v ? tri[1] : tri[2];
   }
   if (n_shared == 0) return 0;
+  if (attributes_ && !attributes_allow(u, v, pl)) [[unlikely]] return 0;
   const bool boundary_edge = n_shared == 1;
   // An interior edge between two boundary vertices would pinch or merge boundaries.
-  if (!boundary_edge && boundary_[u] && boundary_[v]) return 0;
+  if (!boundary_edge && vd_[u].boundary && vd_[v].boundary) return 0;
 
   // Link condition: the common neighbours of u and v are exactly the opposite corners.
   ++mark_token_;
-  for (std::uint32_t i = ref_begin_[u]; i < ref_begin_[u] + ref_size_[u]; ++i) {
+  for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (!tri_alive_[t]) continue;
-    for (std::uint32_t w : triangles_[t]) mark_[w] = mark_token_;
+    for (std::uint32_t w : triangles_[t]) vd_[w].mark = mark_token_;
   }
   const std::uint32_t token_u = mark_token_;
   ++mark_token_;
   int common = 0;
-  for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
+  for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (!tri_alive_[t]) continue;
     for (std::uint32_t w : triangles_[t])
-      if (w != u && w != v && mark_[w] == token_u) {
-        mark_[w] = mark_token_;
+      if (w != u && w != v && vd_[w].mark == token_u) {
+        vd_[w].mark = mark_token_;
         ++common;
       }
   }
@@ -349,19 +391,21 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   // what stops a tetrahedron from folding into a two-triangle pillow.
   for (int s = 0; s < n_shared; ++s) {
     const std::uint32_t w = opposite[s];
-    if (tri_count_[w] - 1 < (boundary_[w] ? 1u : 3u)) return 0;
+    if (vd_[w].ref_size - 1 < (vd_[w].boundary ? 1u : 3u)) return 0;
   }
-  const std::uint32_t merged = tri_count_[u] + tri_count_[v] - 2u * static_cast<std::uint32_t>(n_shared);
-  if (merged < ((boundary_[u] || boundary_[v]) ? 1u : 3u)) return 0;
+  const std::uint32_t merged = vd_[u].ref_size + vd_[v].ref_size - 2u * static_cast<std::uint32_t>(n_shared);
+  if (merged < ((vd_[u].boundary || vd_[v].boundary) ? 1u : 3u)) return 0;
 
-  for (std::uint32_t i = ref_begin_[u]; i < ref_begin_[u] + ref_size_[u]; ++i) {
+  for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (tri_alive_[t] && !has_tri_with(t, v) && !face_ok(t, u, pl.p)) return 0;
+    if (!has_tri_with(t, v) && !face_ok(t, u, pl.p)) return 0;
   }
-  for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
-    const std::uint32_t t = refs_[i];
-    if (tri_alive_[t] && !has_tri_with(t, u) && !face_ok(t, v, pl.p)) return 0;
-  }
+  // A survivor that stays put leaves its own triangles as they were.
+  if (pl.p != vd_[v].p)
+    for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
+      const std::uint32_t t = refs_[i];
+      if (!has_tri_with(t, u) && !face_ok(t, v, pl.p)) return 0;
+    }
 
   if (std::isfinite(options_.max_error)) {
     const double w = weight_[u] + weight_[v];
@@ -372,7 +416,8 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
 }
 
 void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement& pl) {
-  ensure_refs(ref_size_[u] + ref_size_[v]);
+  if (attributes_) [[unlikely]] collapse_attributes(u, v);
+  ensure_refs(vd_[u].ref_size + vd_[v].ref_size);
   CollapseRecord rec;
   if (record_) {
     rec.u = u;
@@ -382,20 +427,21 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
     rec.changed_begin = static_cast<std::uint32_t>(changed_.size());
   }
   const auto new_begin = static_cast<std::uint32_t>(refs_.size());
-  for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i) {
+  for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (tri_alive_[t] && !has_tri_with(t, u)) refs_.push_back(t);
+    if (!has_tri_with(t, u)) refs_.push_back(t);
   }
   int n_dead = 0;
-  for (std::uint32_t i = ref_begin_[u]; i < ref_begin_[u] + ref_size_[u]; ++i) {
+  for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
-    if (!tri_alive_[t]) continue;
     auto& tri = triangles_[t];
     if (has_tri_with(t, v)) {
       tri_alive_[t] = 0;
       --alive_triangles_;
       for (std::uint32_t w : tri)
-        if (w != u && w != v) --tri_count_[w];
+        if (w != u && w != v) {
+          drop_ref(w, t);
+        }
       if (record_) rec.dead[n_dead] = t;
       ++n_dead;
       continue;
@@ -410,18 +456,16 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   const double w = weight_[u] + weight_[v];
   if (w > 0) max_error_ = std::max(max_error_, std::sqrt(pl.cost / w) * scale_);
 
-  ref_begin_[v] = new_begin;
-  ref_size_[v] = static_cast<std::uint32_t>(refs_.size()) - new_begin;
-  tri_count_[v] = ref_size_[v];
-  tri_count_[u] = 0;
-  ref_size_[u] = 0;
-  quadric_[v] += quadric_[u];
+  vd_[v].ref_begin = new_begin;
+  vd_[v].ref_size = static_cast<std::uint32_t>(refs_.size()) - new_begin;
+  vd_[u].ref_size = 0;
+  vd_[v].q += vd_[u].q;
   weight_[v] = w;
-  pos_[v] = pl.p;
+  vd_[v].p = pl.p;
   // Sources 1 and 2 keep the survivor's own position (run() orders u, v so): copying the
   // model-unit value keeps kept and locked vertices bit-exact.
   if (pl.source == 0 || pl.source == 3) model_[v] = center_ + scale_ * pl.p;
-  boundary_[v] |= boundary_[u];
+  vd_[v].boundary |= vd_[u].boundary;
   ++stamp_[v];
   ++stamp_[u];
   ++collapses_;
@@ -436,38 +480,30 @@ SimplifyStop CollapseEngine::run(std::size_t target) {
   const std::size_t start = alive_triangles_;
   std::size_t next_report = 4096;
   while (alive_triangles_ > target) {
-    if (queue_.empty()) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
-    const Candidate c = queue_.pop();
-    // The next entry's stamps are a cache miss away; start fetching them now.
-    if (const Candidate* next = queue_.peek()) {
-      __builtin_prefetch(&stamp_[next->a]);
-      __builtin_prefetch(&stamp_[next->b]);
-    }
-    // Every collapse queues all edges of its survivor afresh, so an entry whose endpoints
-    // changed since (including one that was removed) has a newer twin: drop it unevaluated.
-    if (c.stamps != stamp_[c.a] + stamp_[c.b]) continue;
+    Candidate c;
+    if (!queue_.pop(c)) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
     const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;
-    if (pl.source == 1 || locked_[c.a]) std::swap(u, v);
+    if (pl.source == 1 || vd_[c.a].locked) std::swap(u, v);
     const int verdict = try_collapse(u, v, pl);
     if (verdict != 1) {
       // Remember both ends: when a neighbour changes, their edges get another chance.
-      retry_[c.a] = retry_[c.b] = 1;
+      vd_[c.a].retry = vd_[c.b].retry = 1;
       if (verdict == 2) error_rejected_ = true;
       continue;
     }
     collapse(u, v, pl);
     // Re-evaluated now, while the neighbourhood is in cache, rather than when the old
     // entries reach the top.
-    retry_[v] = 0;
+    vd_[v].retry = 0;
     push_vertex_edges(v);
     // Neighbours with rejected edges: their surroundings changed, so queue their edges
     // again (duplicates of still-valid entries are harmless).
-    for (std::uint32_t i = ref_begin_[v]; i < ref_begin_[v] + ref_size_[v]; ++i)
+    for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i)
       for (std::uint32_t w : triangles_[refs_[i]])
-        if (w != v && retry_[w]) {
-          retry_[w] = 0;
+        if (w != v && vd_[w].retry) {
+          vd_[w].retry = 0;
           push_vertex_edges(w);
         }
     if (options_.progress && collapses_ >= next_report) {
@@ -480,15 +516,21 @@ SimplifyStop CollapseEngine::run(std::size_t target) {
   return SimplifyStop::kTargetReached;
 }
 
+std::vector<Point> CollapseEngine::normalised_positions() const {
+  std::vector<Point> p(vd_.size());
+  for (std::size_t v = 0; v < vd_.size(); ++v) p[v] = vd_[v].p;
+  return p;
+}
+
 SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
   SurfaceMesh out;
-  std::vector<std::uint32_t> index(pos_.size(), kNone);
+  std::vector<std::uint32_t> index(vd_.size(), kNone);
   std::size_t nv = 0;
-  for (std::size_t v = 0; v < pos_.size(); ++v) nv += tri_count_[v] > 0;
+  for (const VertexData& d : vd_) nv += d.ref_size > 0;
   out.reserve(nv, alive_triangles_ * 3 / 2 + 3, alive_triangles_);
   if (out_origin) out_origin->clear();
-  for (std::size_t v = 0; v < pos_.size(); ++v) {
-    if (tri_count_[v] == 0) continue;
+  for (std::size_t v = 0; v < vd_.size(); ++v) {
+    if (vd_[v].ref_size == 0) continue;
     index[v] = out.add_vertex(model_[v]).idx();
     if (out_origin) out_origin->push_back(vertex_of_[v]);
   }
@@ -497,6 +539,7 @@ SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
     const auto& tri = triangles_[t];
     out.add_triangle(Vertex(index[tri[0]]), Vertex(index[tri[1]]), Vertex(index[tri[2]]));
   }
+  if (attributes_) write_attributes(out);
   return out;
 }
 

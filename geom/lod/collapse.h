@@ -6,8 +6,8 @@
 ///
 /// Queue entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
 /// sum means neither changed). A collapse queues every edge of the survivor at its new
-/// cost while that neighbourhood is in cache; the old entries are dropped unevaluated when
-/// they come out.
+/// cost while that neighbourhood is in cache; the queue drops the old entries unevaluated
+/// when it next passes over them.
 ///
 /// A collapse only adds quadrics, so costs only grow and the minimum never decreases (the
 /// rare exception, from round-off or the endpoint fallback, is queued at the current
@@ -15,13 +15,21 @@
 /// Mehlhorn, Orlin, Tarjan 1990) rather than a comparison heap: a push appends to one of 33
 /// buckets and an entry only ever moves to lower buckets, in sequential passes. A 4-ary
 /// heap of a million edges spent most of its time on cache misses in sift-down.
+///
+/// Memory, not arithmetic, bounds the main loop: each collapse lands somewhere random on
+/// the surface. So what a collapse reads of a vertex and its neighbours (quadric, position,
+/// mark, triangle list, flags) sits in one two-line record (VertexData), triangle lists
+/// hold live triangles only (a dead one leaves its three lists at once), and the big arrays
+/// ask for huge pages.
 
 #include <geom/core/surface_mesh.h>
+#include <geom/lod/attribute_quadric.h>
 #include <geom/lod/quadric.h>
 #include <geom/lod/simplify.h>
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace geom::detail {
@@ -67,12 +75,22 @@ class CollapseEngine {
   const std::vector<Point>& positions() const { return model_; }
   const std::vector<std::array<std::uint32_t, 3>>& triangles() const { return triangles_; }
   bool triangle_alive(std::uint32_t t) const { return tri_alive_[t] != 0; }
-  bool vertex_alive(std::uint32_t v) const { return tri_count_[v] != 0; }
+  bool vertex_alive(std::uint32_t v) const { return vd_[v].ref_size != 0; }
 
   /// The current mesh; out_origin receives the input vertex of each output vertex.
   SurfaceMesh extract(std::vector<Vertex>* out_origin) const;
 
  private:
+  // What the main loop reads of a vertex and of its neighbours, together in two cache lines
+  // rather than spread over a dozen arrays.
+  struct alignas(64) VertexData {
+    Quadric q;
+    Point p;  // normalised
+    std::uint32_t mark = 0;
+    // Live incident triangles: refs_[ref_begin .. ref_begin + ref_size); none once removed.
+    std::uint32_t ref_begin = 0, ref_size = 0;
+    std::uint8_t boundary = 0, locked = 0, retry = 0;
+  };
   struct Candidate {
     float cost;
     std::uint32_t a, b, stamps;
@@ -81,21 +99,22 @@ class CollapseEngine {
   /// endpoint fallback of the placement) are queued at that cost: they come out next.
   class RadixQueue {
    public:
-    bool empty() const { return size_ == 0; }
+    /// Entries whose stamps no longer match these (one per vertex) are outdated.
+    void watch(const std::uint32_t* stamps) { stamps_ = stamps; }
     void push(Candidate c);
-    /// Remove and return an entry of the smallest cost. Pre: !empty().
-    Candidate pop();
-    /// The entry pop() returns next if it is known without work, else null.
-    const Candidate* peek() const { return buckets_[0].empty() ? nullptr : &buckets_[0].back(); }
+    /// Remove a current entry of the smallest cost into out; false when none is left.
+    bool pop(Candidate& out);
 
    private:
-    /// Make bucket 0 hold the entries of the smallest cost. Pre: !empty().
+    bool current(const Candidate& c) const;
+    /// Make bucket 0 hold the current entries of the smallest cost, unless none is left.
     void settle();
     static std::uint32_t key(float cost);
     int bucket(std::uint32_t k) const;
     std::array<std::vector<Candidate>, 33> buckets_;
     std::uint32_t last_ = 0;
     std::size_t size_ = 0;
+    const std::uint32_t* stamps_ = nullptr;
   };
   struct Placement {
     double cost;
@@ -107,10 +126,20 @@ class CollapseEngine {
   void push_edge(std::uint32_t a, std::uint32_t b);
   void push_vertex_edges(std::uint32_t v);
   bool has_tri_with(std::uint32_t t, std::uint32_t x) const;
+  void drop_ref(std::uint32_t w, std::uint32_t t);
   int try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
   void collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
   void ensure_refs(std::size_t extra);
   bool face_ok(std::uint32_t t, std::uint32_t moved, const Point& p) const;
+  std::vector<Point> normalised_positions() const;
+
+  // Attribute hooks (collapse_attributes.cpp), called only when attributes_ is set.
+  void init_attributes(const SurfaceMesh& mesh);
+  int wedge_pairs(std::uint32_t a, std::uint32_t b, AttributeQuadrics::WedgePair* out) const;
+  Placement place_with_attributes(std::uint32_t a, std::uint32_t b, Quadric q) const;
+  bool attributes_allow(std::uint32_t u, std::uint32_t v, const Placement& pl) const;
+  void collapse_attributes(std::uint32_t u, std::uint32_t v);
+  void write_attributes(SurfaceMesh& out) const;
 
   SimplifyOptions options_;
   bool record_;
@@ -122,24 +151,19 @@ class CollapseEngine {
   Point center_ = Point::Zero();
   double scale_ = 1.0;  // model = center + scale · normalised
 
-  std::vector<Point> pos_;       // normalised
+  std::vector<VertexData> vd_;
   std::vector<Point> model_;     // model units
-  std::vector<Quadric> quadric_;
   std::vector<double> weight_;   // area merged into each vertex (normalised units)
-  std::vector<std::uint32_t> stamp_;
-  std::vector<std::uint32_t> tri_count_;
-  std::vector<std::uint8_t> boundary_, locked_, retry_;
-  std::vector<std::uint32_t> mark_;
+  std::vector<std::uint32_t> stamp_;  // apart from vd_: the queue reads them densely
   std::uint32_t mark_token_ = 0;
 
   std::vector<std::array<std::uint32_t, 3>> triangles_;
   std::vector<std::uint8_t> tri_alive_;
   std::size_t alive_triangles_ = 0;
 
-  // Incident triangles of vertex v: refs_[ref_begin_[v] .. ref_begin_[v] + ref_size_[v]),
-  // possibly holding dead triangles (skipped). A collapse appends v's merged list at the end.
+  // Incident triangle lists (VertexData::ref_begin); a collapse appends v's merged list at
+  // the end.
   std::vector<std::uint32_t> refs_;
-  std::vector<std::uint32_t> ref_begin_, ref_size_;
 
   RadixQueue queue_;
   std::vector<std::uint32_t> neighbours_;
@@ -149,6 +173,8 @@ class CollapseEngine {
 
   std::vector<CollapseRecord> records_;
   std::vector<std::uint32_t> changed_;
+
+  std::unique_ptr<AttributeQuadrics> attributes_;  // null unless options.attributes.any()
 };
 
 }  // namespace geom::detail

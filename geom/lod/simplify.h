@@ -26,13 +26,30 @@ enum class SimplifyStop {
 };
 const char* to_string(SimplifyStop stop);
 
+/// One vertex property taking part in attribute-aware simplification.
+struct SimplifyAttribute {
+  bool enabled = false;
+  /// Weight of its squared deviation (attribute units²) against squared distance in a box of
+  /// unit diagonal, per unit area. 0: carried and interpolated but not steering collapses.
+  double weight = 1.0;
+};
+
+/// Which properties take part (Hoppe's attribute quadric) and are carried to the output.
+/// Each comes from the corner property ("h:normal", "h:texcoord") when the mesh has one,
+/// else from the vertex property ("v:normal", "v:texcoord", "v:color"); the output carries
+/// the same properties. Corners of a vertex with different values are an attribute seam.
+struct SimplifyAttributes {
+  SimplifyAttribute normals, texcoords, colors;
+  bool any() const { return normals.enabled || texcoords.enabled || colors.enabled; }
+};
+
 struct SimplifyOptions {
   /// Stop at this many triangles (polygons are fan-triangulated first). 0: use ratio.
   std::size_t target_faces = 0;
   /// Target as a fraction of the input's triangle count, used when target_faces == 0.
   double ratio = 0.5;
-  /// Skip collapses whose error (RMS distance to the merged planes, model units) exceeds
-  /// this; infinity: no bound.
+  /// Skip collapses whose error (RMS distance to the merged planes, model units; with
+  /// attributes, their weighted deviation counts as distance) exceeds this; infinity: no bound.
   double max_error = std::numeric_limits<double>::infinity();
   /// Weight of the constraint planes through boundary edges, relative to the faces' planes:
   /// large keeps boundaries where they are. 0: boundaries are not constrained.
@@ -44,6 +61,11 @@ struct SimplifyOptions {
   /// Reject collapses that leave a triangle with quality 4√3·area/Σ edge² below this (1 for
   /// equilateral, 0 for degenerate), unless it was already worse before.
   double min_triangle_quality = 0.02;
+  /// Attribute-aware quadrics: the new vertex's position and attribute values minimise the
+  /// combined error; seam vertices only slide along their seam (never off it, never merging
+  /// its two sides); normals are renormalised, colours clamped to [0, 1].
+  /// Not used by ProgressiveMesh.
+  SimplifyAttributes attributes{};
   /// Called now and then with the fraction done; return false to stop.
   std::function<bool(double)> progress{};
 };
@@ -65,7 +87,8 @@ struct SimplifyResult {
 /// The result keeps the input's topology: it stays manifold (link condition), keeps its
 /// boundary loops, genus and components, no face flips against its previous normal, and
 /// no two boundaries are merged. Isolated vertices are dropped.
-/// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN.
+/// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN, an
+/// attribute weight is negative or not finite, or an enabled attribute is not on the mesh.
 /// Complexity: O(F log F).
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options = {});
 
