@@ -16,6 +16,8 @@ void add_simplify_command(CLI::App& app) {
     std::optional<double> ratio, max_error;
     std::optional<std::size_t> faces;
     bool keep_boundary = false, measure = false;
+    std::vector<std::string> attributes;
+    double attribute_weight = 1.0;
     SimplifyOptions options;
     CommonOptions common;
   };
@@ -35,6 +37,12 @@ void add_simplify_command(CLI::App& app) {
         o.target_faces = args->faces.value_or(0);
         if (args->max_error) o.max_error = *args->max_error;
         o.lock_boundary = args->keep_boundary;
+        for (const std::string& a : args->attributes) {
+          SimplifyAttribute& slot = a == "normals" ? o.attributes.normals
+                                    : a == "uv"    ? o.attributes.texcoords
+                                                   : o.attributes.colors;
+          slot = {.enabled = true, .weight = args->attribute_weight};
+        }
         Loaded loaded = load_input(args->input, args->common);
         Progress progress("simplify", !args->common.quiet && args->common.output != "-");
         o.progress = progress.callback();
@@ -75,6 +83,14 @@ void add_simplify_command(CLI::App& app) {
                   "Weight of boundary constraint planes (default 100; 0 = none)");
   cmd->add_option("--min-quality", args->options.min_triangle_quality,
                   "Reject collapses leaving triangles below this quality (default 0.02)");
+  cmd->add_option("--attributes", args->attributes,
+                  "Attribute-aware quadrics for these properties (comma-separated: normals, uv, "
+                  "color); the output carries them, seams kept")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"normals", "uv", "color"}));
+  cmd->add_option("--attribute-weight", args->attribute_weight,
+                  "Weight of attribute deviation against distance in a unit-diagonal box (default 1; "
+                  "0 = carry without steering)");
   cmd->add_flag("--measure", args->measure, "Report the sampled Hausdorff and RMS distance");
   add_common_options(cmd, args->common, kOutput | kJson | kQuiet | kForce | kFormat);
 }

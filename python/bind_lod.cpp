@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 #include <type_traits>
 
@@ -67,7 +68,31 @@ void bind_simplify(py::module_& m) {
             o.locked.clear();
             for (std::uint32_t i : ids) o.locked.emplace_back(i);
           })
-      .def_readwrite("min_triangle_quality", &SimplifyOptions::min_triangle_quality);
+      .def_readwrite("min_triangle_quality", &SimplifyOptions::min_triangle_quality)
+      // {"normals" | "uv" | "color": weight} for the enabled attributes (the CLI's names).
+      .def_property(
+          "attributes",
+          [](const SimplifyOptions& o) {
+            py::dict d;
+            auto put = [&](const char* name, const SimplifyAttribute& a) {
+              if (a.enabled) d[name] = a.weight;
+            };
+            put("normals", o.attributes.normals);
+            put("uv", o.attributes.texcoords);
+            put("color", o.attributes.colors);
+            return d;
+          },
+          [](SimplifyOptions& o, const std::map<std::string, double>& weights) {
+            o.attributes = {};
+            for (const auto& [name, w] : weights) {
+              SimplifyAttribute* a = name == "normals" ? &o.attributes.normals
+                                     : name == "uv"    ? &o.attributes.texcoords
+                                     : name == "color" ? &o.attributes.colors
+                                                       : nullptr;
+              if (!a) throw InvalidArgument("simplify: unknown attribute '" + name + "' (expected normals, uv or color)");
+              *a = {.enabled = true, .weight = w};
+            }
+          });
   py::class_<SimplifyResult>(m, "SimplifyResult")
       .def_readonly("mesh", &SimplifyResult::mesh)
       .def_readonly("faces_before", &SimplifyResult::faces_before)

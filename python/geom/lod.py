@@ -15,8 +15,28 @@ MeshDistance = _geom.MeshDistance
 _ALIASES = {"faces": "target_faces", "keep_boundary": "lock_boundary"}
 
 
+def _attributes(options):
+    """attributes=("normals", "uv", "color") and attribute_weights=W or {name: W} → the
+    binding's {name: weight}."""
+    names = options.pop("attributes", None)
+    weights = options.pop("attribute_weights", None)
+    if names is None:
+        if weights is not None:
+            raise _geom.InvalidArgument("simplify: attribute_weights given without attributes")
+        return
+    names = [names] if isinstance(names, str) else list(names)
+    if isinstance(weights, dict):
+        unknown = set(weights) - set(names)
+        if unknown:
+            raise _geom.InvalidArgument(f"simplify: weights for attributes not asked for: {sorted(unknown)}")
+        options["attributes"] = {n: float(weights.get(n, 1.0)) for n in names}
+    else:
+        options["attributes"] = {n: 1.0 if weights is None else float(weights) for n in names}
+
+
 def _options(options, base_ratio):
     options = {_ALIASES.get(k, k): v for k, v in options.items()}
+    _attributes(options)
     if "ratio" in options and options.get("target_faces"):
         raise _geom.InvalidArgument("simplify: give ratio or faces, not both")
     if "ratio" not in options:
@@ -34,6 +54,11 @@ def simplify(mesh, **options):
     allows). Other options (SimplifyOptions fields): ``keep_boundary`` (alias of
     ``lock_boundary``: boundary vertices never move), ``boundary_weight`` (default 100),
     ``locked`` (vertex indices that never move), ``min_triangle_quality`` (default 0.02).
+
+    ``attributes=("normals", "uv", "color")`` makes the collapses attribute-aware (Hoppe's
+    quadric): the mesh's normals, texture coordinates and colours (per vertex, or per corner
+    as OBJ's vt/vn load) steer placement and are interpolated into the output, seams kept.
+    ``attribute_weights`` is one weight for all (default 1.0) or a dict per name.
 
     The result stays manifold, keeps boundary loops and genus, and flips no face. Returns a
     SimplifyResult with ``.mesh``, ``.faces_before``, ``.faces_after``, ``.collapses``,

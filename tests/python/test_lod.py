@@ -167,3 +167,92 @@ def test_stream_round_trip_and_corruption(tmp_path):
         geom.ProgressiveMesh.decode(b"not a stream at all")
     with pytest.raises(OSError):
         geom.ProgressiveMesh.load(str(tmp_path / "missing.gpm"))
+
+
+def uv_sphere_obj(n_lat=12, n_lon=24):
+    """OBJ text of a unit UV sphere: vt cut along longitude 0 (u = 0 and u = 1 meet there),
+    vn per vertex."""
+    lines, vts = [], {}
+    pos = [(0.0, 0.0, 1.0)] + [
+        (np.sin(np.pi * i / n_lat) * np.cos(2 * np.pi * j / n_lon),
+         np.sin(np.pi * i / n_lat) * np.sin(2 * np.pi * j / n_lon), np.cos(np.pi * i / n_lat))
+        for i in range(1, n_lat) for j in range(n_lon)] + [(0.0, 0.0, -1.0)]
+    lines += [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in pos]
+    lines += [f"vn {x:.17g} {y:.17g} {z:.17g}" for x, y, z in pos]
+
+    def vt(u, v):
+        if (u, v) not in vts:
+            vts[(u, v)] = len(vts) + 1
+            lines.append(f"vt {u:.17g} {v:.17g}")
+        return vts[(u, v)]
+
+    ring = lambda i, j: 2 + (i - 1) * n_lon + j % n_lon  # noqa: E731
+    corner = lambda i, j: f"{ring(i, j)}/{vt(j / n_lon, i / n_lat)}/{ring(i, j)}"  # noqa: E731
+    faces = []
+    for j in range(n_lon):
+        pole_n, pole_s = vt((j + 0.5) / n_lon, 0.0), vt((j + 0.5) / n_lon, 1.0)
+        faces.append(f"f 1/{pole_n}/1 {corner(1, j)} {corner(1, j + 1)}")
+        s = len(pos)
+        faces.append(f"f {s}/{pole_s}/{s} {corner(n_lat - 1, j + 1)} {corner(n_lat - 1, j)}")
+        for i in range(1, n_lat - 1):
+            faces.append(f"f {corner(i, j)} {corner(i + 1, j)} {corner(i + 1, j + 1)}")
+            faces.append(f"f {corner(i, j)} {corner(i + 1, j + 1)} {corner(i, j + 1)}")
+    return "\n".join(lines + faces) + "\n"
+
+
+def obj_counts(text):
+    kinds = [line.split()[0] for line in text.splitlines() if line.strip()]
+    return {k: kinds.count(k) for k in ("v", "vt", "vn", "f")}
+
+
+def test_simplify_with_attributes_carries_uvs_and_normals(tmp_path):
+    src = tmp_path / "sphere.obj"
+    src.write_text(uv_sphere_obj())
+    mesh = geom.load(str(src))
+    r = geom.simplify(mesh, ratio=0.3, attributes=("normals", "uv"), attribute_weights={"uv": 2.0})
+    assert r.stop == "target reached" and r.mesh.validate().ok
+    out = tmp_path / "out.obj"
+    geom.save(r.mesh, str(out))
+    counts = obj_counts(out.read_text())
+    assert counts["f"] == r.faces_after
+    # UVs come out per corner, with the seam's two sides as separate vt entries.
+    assert counts["vt"] > counts["v"]
+    assert counts["vn"] >= counts["v"]
+    for line in out.read_text().splitlines():
+        if line.startswith("vt "):
+            u, v = map(float, line.split()[1:3])
+            assert -1e-9 <= u <= 1 + 1e-9 and -1e-9 <= v <= 1 + 1e-9
+        if line.startswith("vn "):
+            assert abs(np.linalg.norm([float(x) for x in line.split()[1:4]]) - 1) < 1e-6
+
+    # Without attributes the output has none.
+    plain = tmp_path / "plain.obj"
+    geom.save(geom.simplify(mesh, ratio=0.3).mesh, str(plain))
+    assert obj_counts(plain.read_text())["vt"] == 0
+
+    opts = geom.SimplifyOptions()
+    opts.attributes = {"uv": 0.5}
+    assert opts.attributes == {"uv": 0.5}
+    with pytest.raises(ValueError, match="unknown attribute"):
+        geom.simplify(mesh, attributes=("uv", "tangents"))
+    with pytest.raises(ValueError, match="texcoord"):
+        geom.simplify(torus(), attributes=("uv",))
+    with pytest.raises(ValueError, match="weight"):
+        geom.simplify(mesh, attributes=("uv",), attribute_weights=-1.0)
+    with pytest.raises(ValueError, match="not asked for"):
+        geom.simplify(mesh, attributes=("uv",), attribute_weights={"color": 1.0})
+
+
+def test_cli_simplify_attributes(tmp_path, run):
+    src = tmp_path / "sphere.obj"
+    src.write_text(uv_sphere_obj())
+    out = tmp_path / "out.obj"
+    r = run("simplify", src, out, "--ratio", "0.3", "--attributes", "normals,uv", "--attribute-weight", "2",
+            "--json")
+    assert r.returncode == 0, r.stderr
+    counts = obj_counts(out.read_text())
+    assert counts["vt"] > counts["v"] and counts["vn"] >= counts["v"]
+    assert "--attributes" in run("simplify", "--help").stdout
+    assert run("simplify", src, tmp_path / "x.obj", "--ratio", "0.3", "--attributes", "tangents").returncode == 2
+    bad = run("simplify", src, tmp_path / "y.obj", "--ratio", "0.3", "--attributes", "color")
+    assert bad.returncode == 1 and "v:color" in bad.stderr
