@@ -1,7 +1,8 @@
 // bench_lod: our quadric simplifier against meshoptimizer, OpenMesh and CGAL on the same
 // inputs and targets; error measured by geom's sampled Hausdorff/RMS tool for everyone.
 //
-//   bench_lod [--faces N] [--peers ours,meshopt,openmesh,cgal] [--slow-max-faces N]
+//   bench_lod [--faces N] [--peers ours,meshopt,openmesh,cgal,ours_attr,meshopt_attr]
+//             [--slow-max-faces N] [--attr-faces N] [--attribute-weight W]
 //
 // Times are process CPU seconds (std::clock), min of 2 runs for the fast methods: every
 // method is single-threaded, and CPU time stays meaningful on a loaded shared machine where
@@ -9,6 +10,14 @@
 //
 // --faces sets the generated torus size (default 1,000,000 triangles); slow peers
 // (OpenMesh, CGAL) run on inputs up to --slow-max-faces (default: all).
+//
+// The attribute table (bench_lod_attributes.cpp) simplifies a UV-textured torus of
+// --attr-faces triangles (default: --faces) with texture coordinates steering the collapses,
+// ours against meshopt_simplifyWithAttributes (or, with meshoptimizer < 0.21, meshopt_simplify
+// on the seam-split buffer), and adds the UV error; it goes to bench-out/lod_attributes.csv:
+//
+//   bench/plot.py bench-out/lod_attributes.csv --x seconds --y uv_rms --group method
+//       --logx --logy --scatter --title "LOD with UVs: UV error against time" -o bench-out/lod_attributes.png
 //
 // Writes bench-out/lod.csv (every input) and bench-out/lod_tradeoff.csv (the torus: what
 // accuracy costs in time: one point per method and target). The chart:
@@ -124,11 +133,15 @@ struct Input {
 
 int main(int argc, char** argv) {
   std::size_t torus_faces = 1000000, slow_max = std::numeric_limits<std::size_t>::max();
-  std::set<std::string> peers{"ours", "meshopt", "openmesh", "cgal"};
+  std::set<std::string> peers{"ours", "meshopt", "openmesh", "cgal", "ours_attr", "meshopt_attr"};
+  std::size_t attr_faces = 0;
+  double attr_weight = 1.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i], val = argv[i + 1];
     if (arg == "--faces") torus_faces = std::stoul(val);
     else if (arg == "--slow-max-faces") slow_max = std::stoul(val);
+    else if (arg == "--attr-faces") attr_faces = std::stoul(val);
+    else if (arg == "--attribute-weight") attr_weight = std::stod(val);
     else if (arg == "--peers") {
       peers.clear();
       std::size_t s = 0;
@@ -194,6 +207,14 @@ int main(int argc, char** argv) {
   }
   table.print();
   table.write_csv(out_dir() / "lod.csv");
+  if (peers.count("ours_attr") || peers.count("meshopt_attr")) {
+    Table attributes({"input", "faces", "target", "method", "seconds", "ratio_vs_meshopt", "achieved",
+                      "hausdorff_rel", "rms_rel", "uv_max", "uv_rms"});
+    run_attribute_bench(attr_faces ? attr_faces : torus_faces, attr_weight, peers, attributes);
+    attributes.print();
+    attributes.write_csv(out_dir() / "lod_attributes.csv");
+    std::cout << "wrote " << (out_dir() / "lod_attributes.csv").string() << "\n";
+  }
   tradeoff.write_csv(out_dir() / "lod_tradeoff.csv");
   std::cout << "wrote " << (out_dir() / "lod.csv").string() << " and lod_tradeoff.csv\n";
   return 0;

@@ -6,6 +6,8 @@
 
 #include <array>
 #include <cstdint>
+#include <set>
+#include <string>
 #include <vector>
 
 namespace geom::bench {
@@ -24,5 +26,12 @@ struct PeerRun {
 PeerRun simplify_cgal(const TriangleArrays& input, std::size_t target_faces);
 /// OpenMesh DecimaterT + ModQuadricT (no error bound).
 PeerRun simplify_openmesh(const TriangleArrays& input, std::size_t target_faces);
+
+class Table;
+/// bench_lod_attributes.cpp: a UV-textured torus of `faces` triangles at 50/10/1%, ours with
+/// attributes against meshoptimizer's attribute simplifier; adds rows to `table` (columns:
+/// input, faces, target, method, seconds, ratio, achieved, hausdorff_rel, rms_rel, uv_max,
+/// uv_rms). Methods run when named in peers: ours_attr, meshopt_attr.
+void run_attribute_bench(std::size_t faces, double weight, const std::set<std::string>& peers, Table& table);
 
 }  // namespace geom::bench
