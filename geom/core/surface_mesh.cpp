@@ -56,6 +56,29 @@ void SurfaceMesh::reserve(std::size_t vertices, std::size_t edges, std::size_t f
   fprops_.reserve(faces);
 }
 
+void SurfaceMesh::resize(std::size_t vertices, std::size_t edges, std::size_t faces) {
+  if (vertices < vertices_size() || edges < edges_size() || faces < faces_size())
+    throw InvalidArgument("SurfaceMesh::resize cannot remove elements (asked for " +
+                          std::to_string(vertices) + " vertices, " + std::to_string(edges) +
+                          " edges, " + std::to_string(faces) + " faces; the mesh has " +
+                          std::to_string(vertices_size()) + ", " + std::to_string(edges_size()) +
+                          ", " + std::to_string(faces_size()) + ")");
+  // The same limits as new_vertex, new_edge and new_face.
+  if (vertices > Vertex::kInvalid || 2 * edges + 1 >= Halfedge::kInvalid ||
+      faces > Face::kInvalid)
+    throw Error("too many elements for 32-bit handles");
+  vconn_.resize(vertices);
+  vdeleted_.resize(vertices, 0);
+  vprops_.resize(vertices);
+  hconn_.resize(2 * edges);
+  hprops_.resize(2 * edges);
+  edeleted_.resize(edges, 0);
+  eprops_.resize(edges);
+  fconn_.resize(faces);
+  fdeleted_.resize(faces, 0);
+  fprops_.resize(faces);
+}
+
 void SurfaceMesh::clear() { *this = SurfaceMesh(); }
 
 std::size_t SurfaceMesh::connectivity_bytes() const {

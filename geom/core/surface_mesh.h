@@ -73,6 +73,17 @@ class SurfaceMesh {
   bool has_garbage() const { return deleted_vertices_ + deleted_edges_ + deleted_faces_ > 0; }
 
   void reserve(std::size_t vertices, std::size_t edges, std::size_t faces);
+  /// Bulk allocation for builders that compute whole connectivity arrays (subdivision,
+  /// indexed formats): grow the arrays to exactly `vertices`, `edges` and `faces` elements in
+  /// one step, as `vertices - vertices_size()` calls of new_vertex() and so on would, at the
+  /// cost of a memory fill. The new elements are live and unlinked (every handle they hold is
+  /// invalid, every property at its default); the caller links them with set_vertex,
+  /// set_next, set_face and set_halfedge, and the mesh is valid again once every new
+  /// halfedge has a vertex, next and prev, every new face a halfedge and every vertex an
+  /// outgoing halfedge that is a boundary one if it has any (validate() checks all that).
+  /// Throws: InvalidArgument when a count is below the current size (elements are removed
+  /// with delete_* and compact()); Error when it exceeds 32-bit handles.
+  void resize(std::size_t vertices, std::size_t edges, std::size_t faces);
   /// Remove everything, properties included (positions are re-added).
   void clear();
 

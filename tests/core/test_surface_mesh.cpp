@@ -160,6 +160,62 @@ TEST(SurfaceMesh, BowTieVertexIsRepresentableButNotManifold) {
   EXPECT_TRUE(m.is_manifold(a));
 }
 
+// resize() is the bulk path for builders that compute connectivity arrays: the new
+// elements start unlinked, and linking them by index reproduces a mesh built face by face.
+TEST(SurfaceMesh, ResizeThenLinkByIndexRebuildsTheTetrahedron) {
+  const SurfaceMesh ref = tetrahedron();
+  SurfaceMesh m;
+  auto weight = m.add_property<Vertex, double>("v:weight", 7.0);
+  m.resize(ref.vertices_size(), ref.edges_size(), ref.faces_size());
+  EXPECT_EQ(m.n_vertices(), 4u);
+  EXPECT_EQ(m.n_edges(), 6u);
+  EXPECT_EQ(m.n_halfedges(), 12u);
+  EXPECT_EQ(m.n_faces(), 4u);
+  for (Vertex v : m.vertices()) {
+    EXPECT_FALSE(m.halfedge(v).is_valid());
+    EXPECT_EQ(weight[v], 7.0);
+    EXPECT_EQ(m.position(v), Point::Zero());
+  }
+  for (Halfedge h : m.halfedges()) {
+    EXPECT_FALSE(m.to_vertex(h).is_valid());
+    EXPECT_FALSE(m.next(h).is_valid());
+    EXPECT_FALSE(m.face(h).is_valid());
+  }
+  EXPECT_FALSE(validate(m).ok());  // unlinked halfedges are reported, not assumed
+
+  for (Halfedge h : ref.halfedges()) {
+    m.set_vertex(h, ref.to_vertex(h));
+    m.set_next(h, ref.next(h));
+    m.set_face(h, ref.face(h));
+  }
+  for (Vertex v : ref.vertices()) {
+    m.set_halfedge(v, ref.halfedge(v));
+    m.position(v) = ref.position(v);
+  }
+  for (Face f : ref.faces()) m.set_halfedge(f, ref.halfedge(f));
+  EXPECT_VALID(m);
+  EXPECT_EQ(euler(m), 2u);
+  for (Halfedge h : ref.halfedges()) EXPECT_EQ(m.prev(h), ref.prev(h));
+}
+
+TEST(SurfaceMesh, ResizeGrowsOnlyAndKeepsExistingElements) {
+  SurfaceMesh m = grid(2, false);
+  const std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
+  auto mark = m.add_property<Face, int>("f:mark", -1);
+  mark[Face(0)] = 5;
+  m.resize(nv + 1, ne, nf);  // one isolated vertex, linked to nothing: still valid
+  EXPECT_EQ(m.n_vertices(), nv + 1);
+  EXPECT_TRUE(m.is_isolated(Vertex(static_cast<std::uint32_t>(nv))));
+  EXPECT_EQ(mark[Face(0)], 5);
+  EXPECT_EQ(m.valence(Face(0)), 4u);
+  EXPECT_VALID(m);
+  EXPECT_THROW(m.resize(nv, ne, nf), InvalidArgument);
+  EXPECT_THROW(m.resize(nv + 1, ne, nf - 1), InvalidArgument);
+  EXPECT_EQ(m.n_vertices(), nv + 1);
+  EXPECT_EQ(m.n_faces(), nf);
+  EXPECT_VALID(m);
+}
+
 TEST(Properties, TypedNamedAddGetRemove) {
   SurfaceMesh m = tetrahedron();
   auto w = m.add_property<Vertex, double>("v:weight", 1.5);
