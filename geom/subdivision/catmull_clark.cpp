@@ -8,9 +8,11 @@
 //   first(next g)         child(v_j) → mid(next g)
 //   2·slot(g) + 1         mid(next g) → face-point
 //   2·sl                  face-point → mid(g)
-// Each parent halfedge h builds the child face of next(h), so every child halfedge is
-// written exactly once and the loop runs in parallel. OpenSubdiv rotates a child of a quad
-// so that child(v_j) is its corner j (children of other polygons start at child(v_j)).
+// A face's corners hold consecutive slots (slot(fh) first), so walking each parent face
+// builds its child faces in index order; boundary halves are a second pass. Every child
+// halfedge is written exactly once and both passes run in parallel. OpenSubdiv rotates a
+// child of a quad so that child(v_j) is its corner j (children of other polygons start at
+// child(v_j)).
 //
 // Ref: E. Catmull, J. Clark, CAD 10(6), 1978; OpenSubdiv Sdc::Scheme<SCHEME_CATMARK>.
 
@@ -26,42 +28,53 @@ void catmark_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
   set_child_counts(p, c, true);
   out.allocate(ctx);
   c.parent_face.resize(ctx.parent_faces ? c.nf : 0);
+  // Interior child halfedges, face by face: the corners of a face are consecutive slots, so
+  // the child faces and their interior edges are written in order and each ring is written
+  // whole, once (for a SurfaceMesh, next and prev of a ring stay inside it).
+  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t f = b; f < end; ++f) {
+      const std::uint32_t n = p.face_size(f);
+      const std::uint32_t base = p.face_base.empty() ? n * f : p.face_base[f];
+      std::uint32_t g = p.next[p.fh[f]], gg = p.next[g];
+      out.vh(f, 2 * base);
+      for (std::uint32_t j = 0; j < n; ++j) {
+        const std::uint32_t jn = j + 1 == n ? 0 : j + 1;
+        const std::uint32_t sl = base + j, sg = base + jn;
+        const std::uint32_t ring[4] = {second_half(g, C), first_half(gg, C), 2 * sg + 1, 2 * sl};
+        out.to(ring[0], F + E + p.to[g]);
+        out.to(ring[1], F + (gg >> 1));
+        out.to(ring[2], f);
+        out.to(ring[3], F + (g >> 1));
+        for (int k = 0; k < 4; ++k) {
+          out.next(ring[k], ring[(k + 1) & 3]);
+          out.face(ring[k], sg);
+        }
+        const std::uint32_t r = n == 4 ? jn : 0;
+        if (!ctx.last)
+          for (std::uint32_t k = 0; k < 4; ++k) out.slot(ring[k], 4 * sg + ((k + r) & 3u));
+        out.fh(sg, ring[(4 - r) & 3u]);
+        if (ctx.parent_faces) c.parent_face[sg] = f;
+        g = gg;
+        gg = p.next[gg];
+      }
+    }
+  });
+  // Boundary child halfedges: the two halves of each boundary halfedge, in loop order.
   for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
     for (std::uint32_t h = b; h < end; ++h) {
+      if (p.face[h] != kNone) continue;
       const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
       out.to(fst, F + (h >> 1));
       out.to(snd, F + E + p.to[h]);
-      const std::uint32_t f = p.face[h];
-      const std::uint32_t g = p.next[h];
-      if (f == kNone) {
-        out.next(fst, snd);
-        out.next(snd, first_half(g, C));
-        out.face(fst, kNone);
-        out.face(snd, kNone);
-        if (!ctx.last) {
-          out.slot(fst, kNone);
-          out.slot(snd, kNone);
-        }
-        continue;
+      out.next(fst, snd);
+      out.next(snd, first_half(p.next[h], C));
+      out.face(fst, kNone);
+      out.face(snd, kNone);
+      if (!ctx.last) {
+        out.slot(fst, kNone);
+        out.slot(snd, kNone);
       }
-      const std::uint32_t sl = p.slot[h], sg = p.slot[g];
-      const std::uint32_t ring[4] = {second_half(g, C), first_half(p.next[g], C), 2 * sg + 1,
-                                     2 * sl};
-      out.to(2 * sl, F + (g >> 1));
-      out.to(2 * sl + 1, f);
-      for (int k = 0; k < 4; ++k) {
-        out.next(ring[k], ring[(k + 1) & 3]);
-        out.face(ring[k], sg);
-      }
-      const std::uint32_t r = p.face_size(f) == 4 ? p.corner_of(g) : 0;
-      if (!ctx.last)
-        for (std::uint32_t k = 0; k < 4; ++k) out.slot(ring[k], 4 * sg + ((k + r) & 3u));
-      out.fh(sg, ring[(4 - r) & 3u]);
-      if (ctx.parent_faces) c.parent_face[sg] = f;
     }
-  });
-  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t f = b; f < end; ++f) out.vh(f, 2 * p.slot[p.fh[f]]);
   });
   for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
     for (std::uint32_t e = b; e < end; ++e)
@@ -97,13 +110,8 @@ void face_and_edge_points(const Level& p, const Level& c, const double* src, dou
     for (std::uint32_t f = b; f < end; ++f) {
       double* out = dst + static_cast<std::size_t>(f) * nw;
       Row<W>::zero(out, w);
-      int n = 0;
+      const double weight = 1.0 / p.face_size(f);
       std::uint32_t h = p.fh[f];
-      do {
-        ++n;
-        h = p.next[h];
-      } while (h != p.fh[f]);
-      const double weight = 1.0 / n;
       do {
         Row<W>::add(out, src + static_cast<std::size_t>(p.to[h]) * nw, weight, w);
         h = p.next[h];

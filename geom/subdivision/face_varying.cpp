@@ -2,6 +2,7 @@
 
 #include <geom/subdivision/face_varying.h>
 
+#include <geom/core/errors.h>
 #include <geom/core/soup.h>
 #include <geom/subdivision/creases.h>
 
@@ -30,6 +31,12 @@ struct Corners {
 std::vector<double> refine_face_varying_smooth(const SurfaceMesh& mesh, const double* rows,
                                                int w, const SubdivideOptions& options,
                                                const SurfaceMesh& refined) {
+  // OpenSubdiv's face-varying limit of an unrefined control mesh keeps values that its
+  // refined levels move; rather than pick one of the two, ask for a level.
+  if (options.levels == 0 && options.limit)
+    throw InvalidArgument(
+        "subdivision: smooth face-varying data (corner UVs) is taken to the limit from "
+        "refined levels only; use levels >= 1 or linear face-varying interpolation");
   auto row = [&](Halfedge h) { return rows + static_cast<std::size_t>(h.idx()) * w; };
   auto same = [&](Halfedge a, Halfedge b) { return std::equal(row(a), row(a) + w, row(b)); };
 
@@ -93,7 +100,6 @@ std::vector<double> refine_face_varying_smooth(const SurfaceMesh& mesh, const do
   }
 
   SubdivideOptions o = options;
-  o.limit = false;
   o.crease_angle.reset();
   o.progress = nullptr;
   o.face_varying = FaceVaryingInterpolation::kLinearAll;

@@ -173,9 +173,9 @@ struct LevelSink {
   }
 };
 
-/// … or, for the last level, a SurfaceMesh whose elements exist already (new_vertex/
-/// new_edge/new_face in the counts of the level), so the biggest level is written once,
-/// in place. Invalid handles carry index kNone, which is what the kernels write.
+/// … or, for the last level, a SurfaceMesh whose elements exist already (SurfaceMesh::resize
+/// to the counts of the level), so the biggest level is written once, in place. Invalid
+/// handles carry index kNone, which is what the kernels write.
 struct MeshSink {
   SurfaceMesh& m;
   void to(std::uint32_t h, std::uint32_t v) { m.set_vertex(Halfedge(h), Vertex(v)); }

@@ -13,87 +13,292 @@ namespace detail::subdiv {
 
 namespace {
 
-/// Read access to a level's connectivity, from a Level or from a SurfaceMesh.
-struct LevelTopo {
-  const Level& l;
-  std::uint32_t to(std::uint32_t h) const { return l.to[h]; }
-  std::uint32_t next(std::uint32_t h) const { return l.next[h]; }
-  std::uint32_t face(std::uint32_t h) const { return l.face[h]; }
-  std::uint32_t vh(std::uint32_t v) const { return l.vh[v]; }
-  std::uint32_t cw(std::uint32_t h) const { return l.next[h ^ 1u]; }
-};
-struct MeshTopo {
-  const SurfaceMesh& m;
-  std::uint32_t to(std::uint32_t h) const { return m.to_vertex(Halfedge(h)).idx(); }
-  std::uint32_t next(std::uint32_t h) const { return m.next(Halfedge(h)).idx(); }
-  std::uint32_t face(std::uint32_t h) const { return m.face(Halfedge(h)).idx(); }
-  std::uint32_t vh(std::uint32_t v) const { return m.halfedge(Vertex(v)).idx(); }
-  std::uint32_t cw(std::uint32_t h) const { return next(h ^ 1u); }
+/// Smooth limit weights of a vertex with n faces: on the vertex, on each edge end and (for
+/// Catmull-Clark) on each opposite face corner, whose weight is a quarter of the edge's.
+struct SmoothWeights {
+  double vertex, edge, face;
 };
 
-/// `l` supplies the vertex count and sharpness, `t` the connectivity.
-template <int W, class Topo>
-void limit_impl(const Level& l, const Topo& t, const double* src, double* dst, int w,
-                const Context& ctx) {
-  const int nw = W ? W : w;
+SmoothWeights catmark_weights(std::uint32_t n) {
+  const double nn = n, f = 1.0 / (nn * (nn + 5.0));
+  return {1.0 - nn * 5.0 * f, 4.0 * f, f};
+}
+
+SmoothWeights loop_weights(std::uint32_t n) {
+  const double nn = n, beta = 0.25 * std::cos(2.0 * M_PI / nn) + 0.375;
+  const double gamma = (0.625 - beta * beta) / nn;
+  const double e = 1.0 / (nn + 3.0 / (8.0 * gamma));
+  return {1.0 - nn * e, e, 0.0};
+}
+
+/// The weights of valences below kCached, computed once (the cosines and divisions cost
+/// more than the rest of a vertex's mask), the others on demand.
+class WeightTable {
+ public:
+  explicit WeightTable(bool catmark) : catmark_(catmark) {
+    for (std::uint32_t n = 1; n < kCached; ++n)
+      cache_[n] = catmark ? catmark_weights(n) : loop_weights(n);
+  }
+  SmoothWeights operator()(std::uint32_t n) const {
+    if (n < kCached) return cache_[n];
+    return catmark_ ? catmark_weights(n) : loop_weights(n);
+  }
+
+ private:
+  static constexpr std::uint32_t kCached = 32;
+  bool catmark_;
+  SmoothWeights cache_[kCached] = {};
+};
+
+/// A row of width W (or w) to sum into: on the stack unless it is wider than kStack.
+template <int W>
+struct Scratch {
+  static constexpr int kStack = 64;
+  explicit Scratch(int w) : wide(W || w <= kStack ? 0 : static_cast<std::size_t>(w)) {}
+  double* data() { return wide.empty() ? stack : wide.data(); }
+  double stack[W ? W : kStack];
+  std::vector<double> wide;
+};
+
+template <int W>
+const double* row(const double* data, std::uint32_t i, int w) {
+  return data + static_cast<std::size_t>(i) * (W ? W : w);
+}
+template <int W>
+double* row(double* data, std::uint32_t i, int w) {
+  return data + static_cast<std::size_t>(i) * (W ? W : w);
+}
+
+/// out = wv·v + wa·(a + b): the crease limit (wv = 2/3, wa = 1/6).
+template <int W>
+void blend2(double* out, const double* v, double wv, const double* a, const double* b,
+            double wa, int w) {
+  for (int k = 0; k < (W ? W : w); ++k) out[k] = wv * v[k] + wa * (a[k] + b[k]);
+}
+
+/// out = wv·v + ws·sum: the smooth limit from the sum of the ring's weighted rows.
+template <int W>
+void finish(double* out, const double* v, double wv, const double* sum, double ws, int w) {
+  for (int k = 0; k < (W ? W : w); ++k) out[k] = wv * v[k] + ws * sum[k];
+}
+
+/// Limit masks over a level's own connectivity: one walk around each vertex's ring. Edge
+/// ends count 4 and opposite corners 1 in `sum` (Catmull-Clark's edge weight is four
+/// times its face weight), so one weight finishes the smooth mask.
+template <int W>
+void limit_level(const Level& l, const double* src, double* dst, int w, const Context& ctx) {
   const bool sharp = l.has_sharpness();
+  const WeightTable weights(ctx.catmark);
+  const double edge_scale = ctx.catmark ? 4.0 : 1.0;
   for_range(l.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    std::vector<double> esum(static_cast<std::size_t>(nw)), fsum(static_cast<std::size_t>(nw));
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
     for (std::uint32_t v = b; v < end; ++v) {
-      const double* pv = src + static_cast<std::size_t>(v) * nw;
-      double* out = dst + static_cast<std::size_t>(v) * nw;
-      const std::uint32_t h0 = t.vh(v);
+      const double* pv = row<W>(src, v, w);
+      double* out = row<W>(dst, v, w);
+      const std::uint32_t h0 = l.vh[v];
       if (h0 == kNone) {
         Row<W>::set(out, pv, 1.0, w);
         continue;
       }
-      int sharp_edges = 0, n_edges = 0, n_faces = 0;
-      std::uint32_t ends[2] = {0, 0};
-      Row<W>::zero(esum.data(), w);
-      Row<W>::zero(fsum.data(), w);
+      int sharp_edges = 0;
+      std::uint32_t n_faces = 0, ends[2] = {0, 0};
+      Row<W>::zero(sum, w);
       std::uint32_t h = h0;
       do {
-        ++n_edges;
-        if (sharp && is_sharp(l.esharp[h >> 1])) ends[sharp_edges++ & 1] = t.to(h);
-        Row<W>::add(esum.data(), src + static_cast<std::size_t>(t.to(h)) * nw, 1.0, w);
-        if (t.face(h) != kNone) {
+        const std::uint32_t to = l.to[h];
+        if (sharp && is_sharp(l.esharp[h >> 1])) ends[sharp_edges++ & 1] = to;
+        Row<W>::add(sum, row<W>(src, to, w), edge_scale, w);
+        if (l.face[h] != kNone) {
           ++n_faces;
-          if (ctx.catmark)
-            Row<W>::add(fsum.data(), src + static_cast<std::size_t>(t.to(t.next(h))) * nw, 1.0,
-                        w);
+          if (ctx.catmark) Row<W>::add(sum, row<W>(src, l.to[l.next[h]], w), 1.0, w);
         }
-        h = t.cw(h);
+        h = l.cw(h);
       } while (h != h0);
       const Rule rule = vertex_rule(sharp ? l.vsharp[v] : kSmooth, sharp_edges);
-      if (rule == kRuleCorner || ((rule == kRuleSmooth || rule == kRuleDart) && ctx.catmark &&
-                                  n_faces == 2)) {
+      if (rule == kRuleCorner || (rule != kRuleCrease && ctx.catmark && n_faces == 2)) {
         Row<W>::set(out, pv, 1.0, w);
       } else if (rule == kRuleCrease) {
-        const double* a = src + static_cast<std::size_t>(ends[0]) * nw;
-        const double* c = src + static_cast<std::size_t>(ends[1]) * nw;
-        for (int k = 0; k < nw; ++k)
-          out[k] = (1.0 / 6.0) * a[k] + (1.0 / 6.0) * c[k] + (2.0 / 3.0) * pv[k];
-      } else if (ctx.catmark) {
-        const double n = n_faces;
-        double fw = 1.0 / 36.0, ew = 1.0 / 9.0, vw = 4.0 / 9.0;
-        if (n_faces != 4) {
-          fw = 1.0 / (n * (n + 5.0));
-          ew = 4.0 * fw;
-          vw = 1.0 - n * (ew + fw);
-        }
-        for (int k = 0; k < nw; ++k) out[k] = fw * fsum[k] + ew * esum[k] + vw * pv[k];
+        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
+                  1.0 / 6.0, w);
       } else {
-        const double n = n_faces;
-        double ew = 1.0 / 12.0, vw = 0.5;
-        if (n_faces != 6) {
-          const double inv = 1.0 / n;
-          const double cos_theta = std::cos(M_PI * 2.0 * inv);
-          const double beta = 0.25 * cos_theta + 0.375;
-          const double gamma = (0.625 - beta * beta) * inv;
-          ew = 1.0 / (n + 3.0 / (8.0 * gamma));
-          vw = 1.0 - ew * n;
+        const SmoothWeights sw = weights(n_faces);
+        finish<W>(out, pv, sw.vertex, sum, ctx.catmark ? sw.face : sw.edge, w);
+      }
+    }
+  });
+}
+
+/// Sharpness of edge e of the refined level `c` (smooth when nothing in it is sharp).
+float edge_sharpness(const Level& c, std::uint32_t e) {
+  return c.has_sharpness() ? c.esharp[e] : kSmooth;
+}
+
+/// prev(h) inside its face, by walking the face (Level keeps no prev links).
+std::uint32_t prev_in_face(const Level& p, std::uint32_t h) {
+  std::uint32_t g = p.next[h];
+  while (p.next[g] != h) g = p.next[g];
+  return g;
+}
+
+/// Catmull-Clark limit of the child level of `p` from the parent's connectivity, element
+/// by element as refinement made the child vertices (face-, edge-, vertex-points), so the
+/// reads and writes run through the arrays in order instead of around scattered rings.
+/// Child vertices: face-point of f at f, edge-point of e at F + e, vertex-point of v at
+/// F + E + v; the child edge at from(h) of parent edge h/2 is C + h (level.h).
+template <int W>
+void limit_catmark_children(const Level& p, const Level& c, const double* src, double* dst,
+                            int w, const Context& ctx) {
+  const std::uint32_t F = p.nf, E = p.ne, FE = F + E, C = p.n_corners;
+  const WeightTable weights(true);
+  // A face-point is smooth with one face per corner: edge ends are the edge-points of the
+  // face's edges, opposite corners the vertex-points of its corners.
+  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t f = b; f < end; ++f) {
+      Row<W>::zero(sum, w);
+      std::uint32_t n = 0, h = p.fh[f];
+      do {
+        Row<W>::add(sum, row<W>(src, F + (h >> 1), w), 4.0, w);
+        Row<W>::add(sum, row<W>(src, FE + p.to[h], w), 1.0, w);
+        ++n;
+        h = p.next[h];
+      } while (h != p.fh[f]);
+      const SmoothWeights sw = weights(n);
+      finish<W>(row<W>(dst, f, w), row<W>(src, f, w), sw.vertex, sum, sw.face, w);
+    }
+  });
+  // An edge-point is a crease between its end vertex-points when both halves stay sharp
+  // (boundary edges always do); otherwise it is regular: edge ends are the end
+  // vertex-points and the face-points, opposite corners the edge-points of the edges
+  // before and after it in both faces.
+  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t e = b; e < end; ++e) {
+      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
+      const double* va = row<W>(src, FE + p.to[h1], w);
+      const double* vb = row<W>(src, FE + p.to[h0], w);
+      const double* pe = row<W>(src, F + e, w);
+      double* out = row<W>(dst, F + e, w);
+      if (is_sharp(edge_sharpness(c, C + h0)) && is_sharp(edge_sharpness(c, C + h1))) {
+        blend2<W>(out, pe, 2.0 / 3.0, va, vb, 1.0 / 6.0, w);
+        continue;
+      }
+      Row<W>::set(sum, va, 4.0, w);
+      Row<W>::add(sum, vb, 4.0, w);
+      for (std::uint32_t h : {h0, h1}) {
+        Row<W>::add(sum, row<W>(src, p.face[h], w), 4.0, w);
+        Row<W>::add(sum, row<W>(src, F + (p.next[h] >> 1), w), 1.0, w);
+        Row<W>::add(sum, row<W>(src, F + (prev_in_face(p, h) >> 1), w), 1.0, w);
+      }
+      finish<W>(out, pe, 4.0 / 9.0, sum, 1.0 / 36.0, w);
+    }
+  });
+  // A vertex-point keeps its parent's ring: edge-points of its edges, face-points of its
+  // faces, with the child sharpness.
+  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t v = b; v < end; ++v) {
+      const double* pv = row<W>(src, FE + v, w);
+      double* out = row<W>(dst, FE + v, w);
+      const std::uint32_t h0 = p.vh[v];
+      if (h0 == kNone) {
+        Row<W>::set(out, pv, 1.0, w);
+        continue;
+      }
+      int sharp_edges = 0;
+      std::uint32_t n_faces = 0, ends[2] = {0, 0};
+      Row<W>::zero(sum, w);
+      std::uint32_t h = h0;
+      do {
+        const std::uint32_t ep = F + (h >> 1);
+        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = ep;
+        Row<W>::add(sum, row<W>(src, ep, w), 4.0, w);
+        if (p.face[h] != kNone) {
+          ++n_faces;
+          Row<W>::add(sum, row<W>(src, p.face[h], w), 1.0, w);
         }
-        for (int k = 0; k < nw; ++k) out[k] = ew * esum[k] + vw * pv[k];
+        h = p.cw(h);
+      } while (h != h0);
+      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[FE + v] : kSmooth, sharp_edges);
+      if (rule == kRuleCorner || (rule != kRuleCrease && n_faces == 2)) {
+        Row<W>::set(out, pv, 1.0, w);
+      } else if (rule == kRuleCrease) {
+        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
+                  1.0 / 6.0, w);
+      } else {
+        const SmoothWeights sw = weights(n_faces);
+        finish<W>(out, pv, sw.vertex, sum, sw.face, w);
+      }
+    }
+  });
+}
+
+/// Loop's counterpart: child vertices are edge-points (e) then vertex-points (E + v); an
+/// interior edge-point is regular (six triangles), its ring the end vertex-points and the
+/// edge-points of the two other edges of both faces.
+template <int W>
+void limit_loop_children(const Level& p, const Level& c, const double* src, double* dst,
+                         int w, const Context& ctx) {
+  const std::uint32_t E = p.ne, C = p.n_corners;
+  const WeightTable weights(false);
+  const SmoothWeights regular = weights(6);
+  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t e = b; e < end; ++e) {
+      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
+      const double* va = row<W>(src, E + p.to[h1], w);
+      const double* vb = row<W>(src, E + p.to[h0], w);
+      const double* pe = row<W>(src, e, w);
+      double* out = row<W>(dst, e, w);
+      if (is_sharp(edge_sharpness(c, C + h0)) && is_sharp(edge_sharpness(c, C + h1))) {
+        blend2<W>(out, pe, 2.0 / 3.0, va, vb, 1.0 / 6.0, w);
+        continue;
+      }
+      Row<W>::set(sum, va, 1.0, w);
+      Row<W>::add(sum, vb, 1.0, w);
+      for (std::uint32_t h : {h0, h1}) {
+        const std::uint32_t g = p.next[h];
+        Row<W>::add(sum, row<W>(src, g >> 1, w), 1.0, w);
+        Row<W>::add(sum, row<W>(src, p.next[g] >> 1, w), 1.0, w);
+      }
+      finish<W>(out, pe, regular.vertex, sum, regular.edge, w);
+    }
+  });
+  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t v = b; v < end; ++v) {
+      const double* pv = row<W>(src, E + v, w);
+      double* out = row<W>(dst, E + v, w);
+      const std::uint32_t h0 = p.vh[v];
+      if (h0 == kNone) {
+        Row<W>::set(out, pv, 1.0, w);
+        continue;
+      }
+      int sharp_edges = 0;
+      std::uint32_t n_faces = 0, ends[2] = {0, 0};
+      Row<W>::zero(sum, w);
+      std::uint32_t h = h0;
+      do {
+        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = h >> 1;
+        Row<W>::add(sum, row<W>(src, h >> 1, w), 1.0, w);
+        n_faces += p.face[h] != kNone;
+        h = p.cw(h);
+      } while (h != h0);
+      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[E + v] : kSmooth, sharp_edges);
+      if (rule == kRuleCorner) {
+        Row<W>::set(out, pv, 1.0, w);
+      } else if (rule == kRuleCrease) {
+        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
+                  1.0 / 6.0, w);
+      } else {
+        const SmoothWeights sw = weights(n_faces);
+        finish<W>(out, pv, sw.vertex, sum, sw.edge, w);
       }
     }
   });
@@ -270,21 +475,23 @@ void limit_normals(const Level& l, const double* src, const double* limit, int w
 
 void limit_points(const Level& l, const double* src, double* dst, int w, double* normals,
                   const Context& ctx) {
-  const LevelTopo t{l};
   if (w == 3)
-    limit_impl<3>(l, t, src, dst, w, ctx);
+    limit_level<3>(l, src, dst, w, ctx);
   else
-    limit_impl<0>(l, t, src, dst, w, ctx);
+    limit_level<0>(l, src, dst, w, ctx);
   if (normals) limit_normals(l, src, dst, w, normals, ctx);
 }
 
-void limit_points(const SurfaceMesh& mesh, const Level& sharpness, const double* src,
-                  double* dst, int w, const Context& ctx) {
-  const MeshTopo t{mesh};
-  if (w == 3)
-    limit_impl<3>(sharpness, t, src, dst, w, ctx);
+void limit_children(const Level& p, const Level& c, const double* src, double* dst, int w,
+                    const Context& ctx) {
+  if (ctx.catmark && w == 3)
+    limit_catmark_children<3>(p, c, src, dst, w, ctx);
+  else if (ctx.catmark)
+    limit_catmark_children<0>(p, c, src, dst, w, ctx);
+  else if (w == 3)
+    limit_loop_children<3>(p, c, src, dst, w, ctx);
   else
-    limit_impl<0>(sharpness, t, src, dst, w, ctx);
+    limit_loop_children<0>(p, c, src, dst, w, ctx);
 }
 
 }  // namespace detail::subdiv

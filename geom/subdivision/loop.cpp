@@ -23,44 +23,54 @@ void loop_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
   set_child_counts(p, c, false);
   out.allocate(ctx);
   c.parent_face.resize(ctx.parent_faces ? c.nf : 0);
+  // Interior child halfedges, face by face (corner j of face f holds slot 3f + j), so each
+  // child triangle is written whole, once; boundary halves are a second pass.
+  const std::uint32_t F = p.nf;
+  for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t f = b; f < end; ++f) {
+      std::uint32_t hs[3];
+      hs[0] = p.fh[f];
+      hs[1] = p.next[hs[0]];
+      hs[2] = p.next[hs[1]];
+      const std::uint32_t mid = 4 * f + 3;
+      for (std::uint32_t j = 0; j < 3; ++j) {
+        const std::uint32_t jn = j == 2 ? 0 : j + 1;
+        const std::uint32_t h = hs[j], hn = hs[jn], sl = 3 * f + j;
+        const std::uint32_t cf = 4 * f + j;
+        const std::uint32_t ring[3] = {second_half(h, C), first_half(hn, C), 2 * sl};
+        out.to(ring[0], E + p.to[h]);
+        out.to(ring[1], hn >> 1);
+        out.to(ring[2], h >> 1);
+        for (std::uint32_t k = 0; k < 3; ++k) {
+          out.next(ring[k], ring[k == 2 ? 0 : k + 1]);
+          out.face(ring[k], cf);
+          if (!ctx.last) out.slot(ring[k], 3 * cf + (k + j) % 3);
+        }
+        out.fh(cf, ring[(3 - j) % 3]);
+        if (ctx.parent_faces) c.parent_face[cf] = f;
+        const std::uint32_t inner = 2 * sl + 1;
+        out.to(inner, hn >> 1);
+        out.next(inner, 2 * (3 * f + jn) + 1);
+        out.face(inner, mid);
+        if (!ctx.last) out.slot(inner, 3 * mid + (j + 2) % 3);
+      }
+      out.fh(mid, 2 * (3 * f + 1) + 1);
+      if (ctx.parent_faces) c.parent_face[mid] = f;
+    }
+  });
   for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
     for (std::uint32_t h = b; h < end; ++h) {
+      if (p.face[h] != kNone) continue;
       const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
       out.to(fst, h >> 1);
       out.to(snd, E + p.to[h]);
-      const std::uint32_t f = p.face[h];
-      const std::uint32_t hn = p.next[h];
-      if (f == kNone) {
-        out.next(fst, snd);
-        out.next(snd, first_half(hn, C));
-        out.face(fst, kNone);
-        out.face(snd, kNone);
-        if (!ctx.last) {
-          out.slot(fst, kNone);
-          out.slot(snd, kNone);
-        }
-        continue;
-      }
-      const std::uint32_t sl = p.slot[h];
-      const std::uint32_t j = sl - 3 * f;
-      const std::uint32_t cf = 4 * f + j, mid = 4 * f + 3;
-      const std::uint32_t ring[3] = {snd, first_half(hn, C), 2 * sl};
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        out.next(ring[k], ring[k == 2 ? 0 : k + 1]);
-        out.face(ring[k], cf);
-        if (!ctx.last) out.slot(ring[k], 3 * cf + (k + j) % 3);
-      }
-      out.fh(cf, ring[(3 - j) % 3]);
-      if (ctx.parent_faces) c.parent_face[cf] = f;
-      const std::uint32_t inner = 2 * sl + 1;
-      out.to(2 * sl, h >> 1);
-      out.to(inner, hn >> 1);
-      out.next(inner, 2 * p.slot[hn] + 1);
-      out.face(inner, mid);
-      if (!ctx.last) out.slot(inner, 3 * mid + (j + 2) % 3);
-      if (j == 1) {
-        out.fh(mid, inner);
-        if (ctx.parent_faces) c.parent_face[mid] = f;
+      out.next(fst, snd);
+      out.next(snd, first_half(p.next[h], C));
+      out.face(fst, kNone);
+      out.face(snd, kNone);
+      if (!ctx.last) {
+        out.slot(fst, kNone);
+        out.slot(snd, kNone);
       }
     }
   });

@@ -247,22 +247,15 @@ double* mesh_positions(SurfaceMesh& mesh) {
 /// A mesh with the level's numbers of vertices, edges and faces and no links yet.
 SurfaceMesh skeleton(const Level& counts) {
   SurfaceMesh out;
-  out.reserve(counts.nv, counts.ne, counts.nf);
-  for (std::uint32_t v = 0; v < counts.nv; ++v) out.new_vertex();
-  for (std::uint32_t e = 0; e < counts.ne; ++e) out.new_edge(Vertex(0), Vertex(0));
-  for (std::uint32_t f = 0; f < counts.nf; ++f) out.new_face();
+  out.resize(counts.nv, counts.ne, counts.nf);
   return out;
 }
 
 SurfaceMesh to_mesh(const Level& l) {
-  SurfaceMesh out;
-  out.reserve(l.nv, l.ne, l.nf);
-  for (std::uint32_t v = 0; v < l.nv; ++v) out.new_vertex();
-  for (std::uint32_t e = 0; e < l.ne; ++e)
-    out.new_edge(Vertex(l.to[2 * e + 1]), Vertex(l.to[2 * e]));
-  for (std::uint32_t f = 0; f < l.nf; ++f) out.new_face();
+  SurfaceMesh out = skeleton(l);
   const std::uint32_t H = 2 * l.ne;
   for (std::uint32_t h = 0; h < H; ++h) {
+    out.set_vertex(Halfedge(h), Vertex(l.to[h]));
     out.set_next(Halfedge(h), Halfedge(l.next[h]));
     if (l.face[h] != kNone) out.set_face(Halfedge(h), Face(l.face[h]));
   }
@@ -313,9 +306,11 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
 
   ctx.parent_faces = face_props;
   const bool positions_only = vdata.entries.size() == 1;
-  // Smooth face-varying data is refined at the end, through the mesh cut along its seams.
-  const bool smooth_fvar = hdata.width > 0 && options.levels > 0 &&
+  // Smooth face-varying data is refined (and taken to the limit) at the end, through the
+  // mesh cut along its seams.
+  const bool smooth_fvar = hdata.width > 0 && (options.levels > 0 || options.limit) &&
                            options.face_varying == FaceVaryingInterpolation::kLinearBoundaries;
+  Level parent;
   for (int level = 1; level <= options.levels; ++level) {
     ctx.last = level == options.levels;
     Level child;
@@ -356,6 +351,8 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
         origin[f] = face_origin[child.parent_face[f]];
       face_origin.swap(origin);
     }
+    // The limit of the last level is computed from its parent's connectivity.
+    if (ctx.last && options.limit) parent = std::move(cur);
     cur = std::move(child);
     result.per_level.push_back({cur.nv, cur.ne, cur.nf});
     if (options.progress && !options.progress(static_cast<double>(level) / options.levels))
@@ -370,7 +367,7 @@ SubdivideResult subdivide(const SurfaceMesh& input, const SubdivideOptions& opti
     detail::subdiv::Array<double> lim(positions_only ? 0 : vdata.data.size());
     double* ldst = positions_only ? mesh_positions(result.mesh) : lim.data();
     if (options.levels > 0)
-      limit_points(result.mesh, cur, vdata.data.data(), ldst, vdata.width, ctx);
+      limit_children(parent, cur, vdata.data.data(), ldst, vdata.width, ctx);
     else
       limit_points(cur, vdata.data.data(), ldst, vdata.width, nullptr, ctx);
     double sum = 0.0, mx = 0.0;

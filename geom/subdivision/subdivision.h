@@ -71,8 +71,10 @@ struct SubdivideOptions {
   /// with the Chaikin crease method can differ from OpenSubdiv where a semi-sharp edge
   /// ends at a seam vertex (geom averages only the edges of the vertex's UV island).
   FaceVaryingInterpolation face_varying = FaceVaryingInterpolation::kLinearAll;
-  /// Move the final vertices onto the limit surface (OpenSubdiv's PrimvarRefiner::Limit).
-  /// For Catmull-Clark with levels = 0 every face must be a quad.
+  /// Move the final vertices onto the limit surface (OpenSubdiv's PrimvarRefiner::Limit),
+  /// and with kLinearBoundaries face-varying data too (LimitFaceVarying: seam and boundary
+  /// values stay, the rest follow the vertex masks); that needs levels >= 1. For
+  /// Catmull-Clark with levels = 0 every face must be a quad.
   bool limit = false;
   /// When set, edges whose dihedral angle exceeds this many degrees are made infinitely
   /// sharp (on top of any "e:sharpness" the mesh has). Must be in [0, 180].
@@ -104,8 +106,8 @@ struct SubdivideResult {
 /// Refine `mesh` uniformly. Every vertex property of type double, float or an Eigen
 /// 2/3/4-vector of double or float is refined with the vertex weights (positions, colours,
 /// normals as data, ...); halfedge (corner) properties of those types, such as
-/// "h:texcoord", are refined as face-varying data by options.face_varying (not moved to
-/// the limit by options.limit); face
+/// "h:texcoord", are refined as face-varying data by options.face_varying (and taken to
+/// the limit with options.limit when smooth; linear data stays); face
 /// properties are copied from parent to child faces; "e:sharpness" / "v:sharpness" carry
 /// the decayed sharpness of the final level when the input had them. Other properties are
 /// dropped. Isolated vertices are kept in place.
@@ -114,7 +116,8 @@ struct SubdivideResult {
 /// than one fan); InvalidArgument when Loop is asked for a mesh with a non-triangle face
 /// (naming it), when levels is outside [0, 10], when the result would exceed 2^31 elements,
 /// when crease_angle is outside [0, 180], when a sharpness is NaN, or when limit is asked at
-/// level 0 of a Catmull-Clark mesh with a non-quad face; Error("cancelled") when the
+/// level 0 of a Catmull-Clark mesh with a non-quad face or of a mesh with smooth
+/// face-varying data; Error("cancelled") when the
 /// progress callback returns false.
 /// Complexity: O(output size); memory about 2× the output mesh.
 SubdivideResult subdivide(const SurfaceMesh& mesh, const SubdivideOptions& options = {});
