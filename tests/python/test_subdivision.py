@@ -123,5 +123,17 @@ def test_smooth_face_varying_uvs_follow_the_vertices(run, tmp_path):
     out = tmp_path / "py.obj"
     geom.save(r.mesh, str(out))
     assert _corner_uv_error(out, uv) < 1e-12
+
+    # --limit takes smooth UVs to the limit with the vertices, so they still agree; from the
+    # unrefined control mesh that is refused rather than left half done.
+    pushed = tmp_path / "pushed.obj"
+    args = ("subdivide", src, "-o", pushed, "--uv", "smooth", "--limit")
+    assert run(*args, "--levels", "2").returncode == 0
+    assert _corner_uv_error(pushed, uv) < 1e-12
+    refused = run(*args, "--levels", "0")
+    assert refused.returncode != 0 and "levels >= 1" in refused.stderr
+    r = geom.subdivide(geom.load(str(src)), levels=1, face_varying="smooth", limit=True)
+    geom.save(r.mesh, str(out))
+    assert _corner_uv_error(out, uv) < 1e-12
     with pytest.raises(ValueError):
         geom.subdivide(cube(), face_varying="cubic")

@@ -32,6 +32,7 @@ struct OsdRun {
   std::vector<std::vector<std::vector<int>>> faces;        // per level: corner vertex lists
   std::vector<Eigen::Vector3d> limit;                      // of the last level
   std::vector<std::vector<Eigen::Vector2d>> corner_uv;     // last level: per face, per corner
+  std::vector<std::vector<Eigen::Vector2d>> corner_uv_limit;  // LimitFaceVarying of those
 };
 
 namespace osd_detail {
@@ -187,6 +188,14 @@ inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
       std::vector<Eigen::Vector2d> corners;
       for (int id : level.GetFaceFVarValues(f, 0)) corners.emplace_back(fv[id].p[0], fv[id].p[1]);
       run.corner_uv.push_back(corners);
+    }
+    std::vector<Vec2> fv_limit(fv.size());
+    primvar.LimitFaceVarying(fv, fv_limit, 0);
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+      std::vector<Eigen::Vector2d> corners;
+      for (int id : level.GetFaceFVarValues(f, 0))
+        corners.emplace_back(fv_limit[id].p[0], fv_limit[id].p[1]);
+      run.corner_uv_limit.push_back(corners);
     }
   }
   return run;

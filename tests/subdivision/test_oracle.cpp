@@ -29,6 +29,19 @@ double bbox_size(const SurfaceMesh& m) {
   return box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-300);
 }
 
+/// Largest distance between the corner UVs of `m` and OpenSubdiv's (0 without UVs).
+double uv_difference(const SurfaceMesh& m, const std::vector<std::vector<Eigen::Vector2d>>& osd) {
+  auto uv = m.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  if (!uv || osd.empty()) return 0.0;
+  double worst = 0.0;
+  for (Face f : m.faces()) {
+    std::size_t j = 0;
+    for (Halfedge h : m.halfedges(f))
+      worst = std::max(worst, (uv[h] - osd[f.idx()][j++]).norm());
+  }
+  return worst;
+}
+
 /// Refine with geom and OpenSubdiv and require equal counts, faces and positions (within
 /// 1e-12 × bounding-box size) at every level up to params.levels, then equal limit
 /// positions and face-varying UVs of the last level.
@@ -68,18 +81,11 @@ void expect_matches_osd(const SurfaceMesh& input, const OsdParams& params,
     }
     EXPECT_EQ(face_mismatch, 0u);
     if (k == params.levels) {
-      auto uv = r.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
-      if (uv && !osd.corner_uv.empty()) {
-        double uv_worst = 0.0;
-        for (Face f : r.mesh.faces()) {
-          int j = 0;
-          for (Halfedge h : r.mesh.halfedges(f))
-            uv_worst = std::max(uv_worst, (uv[h] - osd.corner_uv[f.idx()][j++]).norm());
-        }
-        EXPECT_LE(uv_worst, 1e-12) << "face-varying UVs";
-      }
+      EXPECT_LE(uv_difference(r.mesh, osd.corner_uv), 1e-12) << "face-varying UVs";
       o.limit = true;
       const SubdivideResult lim = subdivide(input, o);
+      EXPECT_LE(uv_difference(lim.mesh, osd.corner_uv_limit), 1e-12)
+          << "face-varying UVs at the limit";
       double lim_worst = 0.0;
       for (Vertex v : lim.mesh.vertices())
         lim_worst = std::max(lim_worst, (lim.mesh.position(v) - osd.limit[v.idx()]).norm());
@@ -112,6 +118,8 @@ TEST(CatmullClark, MatchesOpenSubdivOnQuadGridInEveryBoundaryMode) {
 
 TEST(CatmullClark, MatchesOpenSubdivOnMixedPolygons) {
   expect_matches_osd(test::mixed_polygons(), cc(), "mixed");
+  // The limit of level 1 is computed from level 0's triangles and pentagon.
+  expect_matches_osd(test::mixed_polygons(), cc(1), "mixed, limit of level 1");
 }
 
 TEST(CatmullClark, MatchesOpenSubdivAtValences3To12) {
@@ -146,8 +154,10 @@ TEST(Loop, MatchesOpenSubdivOnTetrahedron) { expect_matches_osd(test::tetrahedro
 
 TEST(Loop, MatchesOpenSubdivOnOpenTriangleStripInEveryBoundaryMode) {
   for (auto b : {BoundaryInterpolation::kNone, BoundaryInterpolation::kEdges,
-                 BoundaryInterpolation::kEdgesAndCorners})
+                 BoundaryInterpolation::kEdgesAndCorners}) {
     expect_matches_osd(test::triangle_strip(5), loop(3, b), "strip mode " + std::to_string(int(b)));
+    expect_matches_osd(test::triangle_strip(5), loop(1, b), "strip, limit of level 1");
+  }
 }
 
 TEST(Loop, MatchesOpenSubdivAtValences3To12) {
@@ -232,6 +242,78 @@ TEST(FaceVarying, SmoothUVsMatchOpenSubdivWithSeams) {
   SurfaceMesh strip = test::triangle_strip(8);
   set_uv_islands(strip, [](Face f) { return f.idx() >= 10; });
   expect_matches_osd(strip, smooth(loop(3)), "strip uv");
+}
+
+/// Semi-sharp edges of unequal sharpness around vertices of a 6 × 5 grid (vertex at row r,
+/// column c is 7r + c), with two UV islands meeting along vertex column 3. `at_seam` adds
+/// edges that end at, leave and run along seam vertex 17.
+SurfaceMesh chaikin_grid(bool at_seam) {
+  SurfaceMesh m = test::quad_grid(6, 5);
+  test::set_crease(m, 15, 16, 0.4);  // three unequal edges: a corner
+  test::set_crease(m, 9, 16, 2.6);
+  test::set_crease(m, 16, 23, 3.0);
+  test::set_crease(m, 11, 12, 2.2);  // two unequal edges: a crease (island two)
+  test::set_crease(m, 12, 13, 0.7);
+  test::set_crease(m, 29, 30, 1.7);  // four, one of them infinitely sharp
+  test::set_crease(m, 22, 29, 0.3);
+  test::set_crease(m, 28, 29, 10.0);
+  test::set_crease(m, 29, 36, 1.1);
+  if (at_seam) {
+    test::set_crease(m, 16, 17, 1.3);
+    test::set_crease(m, 17, 18, 0.7);
+    test::set_crease(m, 10, 17, 2.5);
+  }
+  set_uv_islands(m, [&](Face f) { return f.idx() % 6 >= 3; });
+  return m;
+}
+
+// Chaikin's child sharpness averages the semi-sharp edges at a vertex, so the edges of one
+// vertex decay differently when their sharpness differs. Positions (levels 1-3 and the
+// limit) and linear UVs match everywhere; smooth UVs match away from seams.
+TEST(CatmullClark, MatchesOpenSubdivWithChaikinAtUnequalCreases) {
+  OsdParams p = cc();
+  p.crease_method = CreaseMethod::kChaikin;
+  expect_matches_osd(chaikin_grid(true), p, "chaikin grid, linear uv");
+  p.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+  expect_matches_osd(chaikin_grid(false), p, "chaikin grid, smooth uv");
+  // Loop: unequal creases at vertex 3 of the icosahedron, and through seam vertex 0.
+  SurfaceMesh ico = test::icosahedron();
+  test::set_crease(ico, 3, 9, 0.6);
+  test::set_crease(ico, 3, 4, 1.4);
+  test::set_crease(ico, 3, 2, 2.3);
+  set_uv_islands(ico, [](Face f) { return f.idx() < 2; });
+  OsdParams q = loop();
+  q.crease_method = CreaseMethod::kChaikin;
+  q.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+  expect_matches_osd(ico, q, "chaikin icosahedron, smooth uv");
+  test::set_crease(ico, 0, 11, 0.6);
+  test::set_crease(ico, 0, 5, 1.4);
+  q.face_varying = FaceVaryingInterpolation::kLinearAll;
+  expect_matches_osd(ico, q, "chaikin icosahedron at a seam, linear uv");
+}
+
+// The known difference (subdivision.h, SubdivideOptions::face_varying): smooth UVs are
+// refined through the mesh cut along its seams, where Chaikin's average at a seam vertex
+// sees only the edges of one island. Level 1 still agrees exactly; from level 2 the UVs
+// differ by a few 1e-4 (the UVs span about 5 units). Pinned so a change either way is
+// noticed.
+TEST(FaceVarying, SmoothUVsWithChaikinAtASeamDifferSlightlyFromOpenSubdiv) {
+  const SurfaceMesh m = chaikin_grid(true);
+  OsdParams p = cc(1);
+  p.crease_method = CreaseMethod::kChaikin;
+  p.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+  expect_matches_osd(m, p, "chaikin seam, level 1");
+  for (int levels : {2, 3}) {
+    p.levels = levels;
+    const test::OsdRun osd = test::run_osd(m, p);
+    SubdivideOptions o;
+    o.levels = levels;
+    o.crease_method = p.crease_method;
+    o.face_varying = p.face_varying;
+    const double d = uv_difference(subdivide(m, o).mesh, osd.corner_uv);
+    EXPECT_GT(d, 1e-6) << "level " << levels;
+    EXPECT_LT(d, 1e-3) << "level " << levels;
+  }
 }
 
 TEST(Limit, SmoothVertexNormalsMatchOpenSubdivTangents) {

@@ -381,6 +381,17 @@ TEST(Subdivision, RefusesBadOptions) {
   l0.limit = true;
   EXPECT_THROW(subdivide(test::tetrahedron(), l0), InvalidArgument);
   EXPECT_NO_THROW(subdivide(test::cube(), l0));
+  // Smooth UVs reach the limit only from refined levels (OpenSubdiv's base-level rule
+  // differs); linear UVs stay where they are at any level.
+  SurfaceMesh uv_cube = test::cube();
+  uv_cube.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord, TexCoord(0.5, 0.5));
+  l0.face_varying = FaceVaryingInterpolation::kLinearBoundaries;
+  EXPECT_THROW(subdivide(uv_cube, l0), InvalidArgument);
+  l0.levels = 1;
+  EXPECT_NO_THROW(subdivide(uv_cube, l0));
+  l0.levels = 0;
+  l0.face_varying = FaceVaryingInterpolation::kLinearAll;
+  EXPECT_NO_THROW(subdivide(uv_cube, l0));
 }
 
 TEST(Subdivision, RefusesNaNSharpness) {
@@ -413,6 +424,28 @@ TEST(Subdivision, SerialAndParallelAgreeExactly) {
   EXPECT_TRUE(validate(ra.mesh).ok());
   // Level 4 of a grid: interior vertices of the planar-in-xy parametrisation stay finite.
   EXPECT_EQ(ra.mesh.n_faces(), 3600u * 256u);
+  // The limit pass splits across workers too.
+  a.levels = b.levels = 3;
+  a.limit = b.limit = true;
+  const SubdivideResult la = subdivide(m, a), lb = subdivide(m, b);
+  for (Vertex v : la.mesh.vertices()) ASSERT_EQ(la.mesh.position(v), lb.mesh.position(v));
+}
+
+TEST(Subdivision, LoopSerialAndParallelAgreeExactly) {
+  // A long strip: every triangle touches the boundary, and levels 2 and 3 have enough
+  // faces to split across workers.
+  SurfaceMesh m = test::triangle_strip(4000);
+  SubdivideOptions a = loop(3), b = loop(3);
+  b.parallel = false;
+  const SubdivideResult ra = subdivide(m, a), rb = subdivide(m, b);
+  ASSERT_EQ(ra.mesh.n_halfedges(), rb.mesh.n_halfedges());
+  for (Halfedge h : ra.mesh.halfedges()) {
+    ASSERT_EQ(ra.mesh.next(h), rb.mesh.next(h));
+    ASSERT_EQ(ra.mesh.face(h), rb.mesh.face(h));
+  }
+  for (Vertex v : ra.mesh.vertices()) ASSERT_EQ(ra.mesh.position(v), rb.mesh.position(v));
+  EXPECT_TRUE(validate(ra.mesh).ok());
+  EXPECT_EQ(ra.mesh.n_faces(), 8000u * 64u);
 }
 
 }  // namespace
