@@ -4,6 +4,11 @@
 // time": per scheme and level, the time, the mesh size and how far the mesh is from the
 // limit surface, for plain level k and for level k pushed to the limit.
 //
+// The limit rows: "CC level 4 + limit positions" is the whole job on both sides (OpenSubdiv
+// then also builds full topology of level 4, which Limit() needs); "limit pass alone" is
+// the issue's figure: OpenSubdiv's Limit() call by itself, against the time geom's
+// subdivide() adds when asked for the limit (the difference of the two geom rows).
+//
 // Times: single-thread runs are measured in process CPU time (min of runs), because the
 // shared build machines are loaded and wall time there says more about the neighbours
 // than about the code; the TBB column is wall time.
@@ -124,8 +129,10 @@ struct Vec3 {
 
 /// OpenSubdiv: build the refiner, refine uniformly, interpolate positions through every
 /// level (and take the limit of the last when asked). Returns the last level's face count.
+/// With `limit_seconds`, the limit pass alone is also timed (CPU, min of `repeats`).
 std::size_t osd_refine(const SurfaceMesh& mesh, bool loop, int levels, bool limit,
-                       std::vector<Vec3>* out = nullptr) {
+                       std::vector<Vec3>* out = nullptr, double* limit_seconds = nullptr,
+                       int repeats = 1) {
   using namespace OpenSubdiv;
   std::vector<int> counts, indices;
   for (Face f : mesh.faces()) {
@@ -163,7 +170,10 @@ std::size_t osd_refine(const SurfaceMesh& mesh, bool loop, int levels, bool limi
   }
   if (limit) {
     std::vector<Vec3> lim(cur.size());
-    primvar.Limit(cur, lim);
+    if (limit_seconds)
+      *limit_seconds = geom::bench::cpu_time_min([&] { primvar.Limit(cur, lim); }, repeats);
+    else
+      primvar.Limit(cur, lim);
     cur.swap(lim);
   }
   if (out) *out = std::move(cur);
@@ -246,6 +256,7 @@ int main(int argc, char** argv) {
   const Case cases[] = {{"Catmull-Clark level 4, quad sphere", &sphere, false, false, 4},
                         {"Loop level 4, icosphere", &ico, true, false, 4},
                         {"CC level 4 + limit positions", &sphere, false, true, 4}};
+  double plain_1t = 0.0, plain_mt = 0.0;  // Catmull-Clark level 4 without the limit
   for (const Case& c : cases) {
     SubdivideOptions o;
     o.scheme = c.loop ? SubdivisionScheme::kLoop : SubdivisionScheme::kCatmullClark;
@@ -265,9 +276,26 @@ int main(int argc, char** argv) {
         geom::bench::cpu_time_min([&] { faces = osd_refine(*c.mesh, c.loop, c.levels, c.limit); }, repeats);
     std::vector<Vec3> osd;
     osd_refine(*c.mesh, c.loop, c.levels, c.limit, &osd);
+    const std::string diff = fmt(max_difference(result.mesh, osd), 3);
     speed.add({c.name, std::to_string(faces), fmt(ours_1t), fmt(peer),
                geom::bench::ratio(ours_1t, peer), fmt(faces / ours_1t / 1e6),
-               fmt(faces / peer / 1e6), fmt(ours_mt), fmt(max_difference(result.mesh, osd), 3)});
+               fmt(faces / peer / 1e6), fmt(ours_mt), diff});
+    if (!c.loop && !c.limit) {
+      plain_1t = ours_1t;
+      plain_mt = ours_mt;
+    }
+    if (c.limit) {
+      // The issue's "limit positions at CC level 4": the limit pass alone. OpenSubdiv's is
+      // Limit() on its refined level 4; geom's is what asking for the limit adds to the
+      // same subdivide() call (the two rows above, same run).
+      double peer_limit = 0.0;
+      osd_refine(*c.mesh, c.loop, c.levels, true, nullptr, &peer_limit, repeats);
+      const double ours_limit = ours_1t - plain_1t;
+      speed.add({"limit pass alone, CC level 4", std::to_string(faces), fmt(ours_limit),
+                 fmt(peer_limit), geom::bench::ratio(ours_limit, peer_limit),
+                 fmt(faces / ours_limit / 1e6), fmt(faces / peer_limit / 1e6),
+                 fmt(ours_mt - plain_mt), diff});
+    }
   }
   speed.print();
   speed.write_csv(geom::bench::out_dir() / "subdivision.csv");

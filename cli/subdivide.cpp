@@ -101,7 +101,8 @@ void add_subdivide_command(CLI::App& app) {
                   "Texture coordinates (corner data): linear (default), or smooth inside each "
                   "UV island and linear along seams (OpenSubdiv FVAR_LINEAR_BOUNDARIES)")
       ->check(CLI::IsMember({"linear", "smooth"}));
-  cmd->add_flag("--limit", args->options.limit, "Push the final vertices onto the limit surface");
+  cmd->add_flag("--limit", args->options.limit,
+                "Push the final vertices (and smooth UVs) onto the limit surface");
   cmd->add_option("--crease-angle", args->crease_angle,
                   "Make edges with a dihedral angle above DEG degrees infinitely sharp")
       ->check(CLI::Range(0.0, 180.0));
