@@ -1,5 +1,7 @@
 #include <geom/compress/connectivity.h>
 
+#include <geom/compress/scratch.h>
+
 #include <string>
 
 namespace geom::codec::detail {
@@ -31,18 +33,21 @@ struct Models {
 
 /// The open boundary of the decoded region. A gate is a directed edge of a decoded triangle
 /// whose other side is not decoded yet; gates are threaded on per-vertex lists (outgoing
-/// and incoming) so the boundary neighbours and the zip partner are found in O(1)/O(valence).
+/// and incoming, newest first) so the boundary neighbours and the zip partner are found in
+/// O(1)/O(valence). Closing a gate only clears its flag and advances list heads past closed
+/// gates (lazy deletion): every head is open, and the lists stay singly linked and small.
 struct Gate {
   std::uint32_t from, to, corner;
-  std::uint32_t next_out, prev_out, next_in, prev_in;
-  bool open;
+  std::uint32_t next_out, next_in;
 };
 
 class Region {
  public:
   explicit Region(std::size_t n_triangles) {
     // Every edge opens at most one gate: E ≤ 3T/2 (+3 for a seed).
-    gates_.reserve(n_triangles + n_triangles / 2 + 3);
+    const std::size_t max_gates = n_triangles + n_triangles / 2 + 3;
+    reserve_huge(gates_, max_gates);
+    open_.reserve(max_gates);
     out_head_.reserve(n_triangles / 2 + 3);
     in_head_.reserve(n_triangles / 2 + 3);
   }
@@ -59,11 +64,13 @@ class Region {
     if (fan_[v] < kFanClasses - 1) ++fan_[v];
   }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
+  bool is_open(std::uint32_t g) const { return open_[g] != 0; }
+  void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_.data() + g); }
 
   /// The open gate from a to b, or kNone.
   std::uint32_t find(std::uint32_t a, std::uint32_t b) const {
     for (std::uint32_t g = out_head_[a]; g != kNone; g = gates_[g].next_out)
-      if (gates_[g].to == b) return g;
+      if (open_[g] && gates_[g].to == b) return g;
     return kNone;
   }
   /// The boundary vertex after v (head of v's outgoing gates), or kNone.
@@ -78,27 +85,25 @@ class Region {
   }
   std::uint32_t open(std::uint32_t from, std::uint32_t to, std::uint32_t corner) {
     const auto id = static_cast<std::uint32_t>(gates_.size());
-    gates_.push_back({from, to, corner, out_head_[from], kNone, in_head_[to], kNone, true});
-    if (out_head_[from] != kNone) gates_[out_head_[from]].prev_out = id;
+    gates_.push_back({from, to, corner, out_head_[from], in_head_[to]});
+    open_.push_back(1);
     out_head_[from] = id;
-    if (in_head_[to] != kNone) gates_[in_head_[to]].prev_in = id;
     in_head_[to] = id;
     return id;
   }
   void close(std::uint32_t id) {
-    Gate& g = gates_[id];
-    if (!g.open) return;
-    g.open = false;
-    if (g.prev_out != kNone) gates_[g.prev_out].next_out = g.next_out;
-    else out_head_[g.from] = g.next_out;
-    if (g.next_out != kNone) gates_[g.next_out].prev_out = g.prev_out;
-    if (g.prev_in != kNone) gates_[g.prev_in].next_in = g.next_in;
-    else in_head_[g.to] = g.next_in;
-    if (g.next_in != kNone) gates_[g.next_in].prev_in = g.prev_in;
+    if (!open_[id]) return;
+    open_[id] = 0;
+    const Gate& g = gates_[id];
+    std::uint32_t& out = out_head_[g.from];
+    while (out != kNone && !open_[out]) out = gates_[out].next_out;
+    std::uint32_t& in = in_head_[g.to];
+    while (in != kNone && !open_[in]) in = gates_[in].next_in;
   }
 
  private:
   std::vector<Gate> gates_;
+  std::vector<std::uint8_t> open_;
   std::vector<std::uint32_t> out_head_, in_head_;
   std::vector<std::uint8_t> fan_;
 };
@@ -142,9 +147,9 @@ template <class Driver>
 void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal,
           CornerTable& out) {
   out.vertex.clear();
-  out.vertex.reserve(3 * n_triangles);
+  reserve_huge(out.vertex, 3 * n_triangles);
   out.opposite.clear();
-  out.opposite.reserve(3 * n_triangles);
+  reserve_huge(out.opposite, 3 * n_triangles);
   out.diagonal.clear();
   if (polygons) out.diagonal.reserve(3 * n_triangles);
   Region region(n_triangles);
@@ -195,8 +200,10 @@ void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal
     while (!stack.empty()) {
       const std::uint32_t gid = stack.back();
       stack.pop_back();
+      // The gate under this one is usually popped next: fetch its record while this one grows.
+      if (!stack.empty()) region.prefetch(stack.back());
+      if (!region.is_open(gid)) continue;
       const Gate gate = region.gate(gid);
-      if (!gate.open) continue;
       const std::uint32_t u = gate.from, v = gate.to;
       const std::uint32_t right = region.after(v), left = region.before(u);
       const unsigned ctx = (region.fan(v) * kFanClasses + region.fan(u)) * 4 +
@@ -234,19 +241,26 @@ class Encoder {
  public:
   Encoder(const CornerTable& in, RansEncoder& rans, BitWriter& raw, TraversalOrder& order)
       : in_(in), rans_(rans), raw_(raw), order_(order),
-        dec_id_(in.n_vertices, kNone), visited_(in.n_triangles(), 0) {
+        dec_id_(in.n_vertices, kNone) {
+    if (in.n_vertices >= kVisited)
+      throw InvalidArgument("compress: more than 2^31 vertices");
+    // The traversal visits a shuffled input in random order: one record per corner (vertex,
+    // opposite, visited bit) costs one cache miss where three arrays cost three.
+    reserve_huge(corner_, in.vertex.size());
+    corner_.resize(in.vertex.size());
+    for (std::size_t c = 0; c < in.vertex.size(); ++c) corner_[c] = {in.vertex[c], in.opposite[c]};
     order_.vertex_origin.clear();
     order_.corner_origin.clear();
     order_.corner_origin.reserve(in.vertex.size());
   }
 
   void begin_seed() {
-    while (visited_[seed_cursor_]) ++seed_cursor_;
+    while (corner_[3 * seed_cursor_].vertex & kVisited) ++seed_cursor_;
     pending_ = 3 * seed_cursor_;
     seeding_ = true;
   }
   std::uint32_t seed_vertex(int j, Region& region) {
-    const std::uint32_t orig = in_.vertex[pending_ + static_cast<std::uint32_t>(j)];
+    const std::uint32_t orig = corner_[pending_ + static_cast<std::uint32_t>(j)].vertex & ~kVisited;
     std::uint32_t& id = dec_id_[orig];
     if (id == kNone) {
       rans_.encode(m_.seed_new, 1);
@@ -266,20 +280,20 @@ class Encoder {
     } else {
       c0 = next_corner(pending_), c1 = prev_corner(pending_), c2 = pending_;
     }
-    visited_[pending_ / 3] = 1;
+    for (std::uint32_t c = pending_ - pending_ % 3, j = 0; j < 3; ++j) corner_[c + j].vertex |= kVisited;
     order_.corner_origin.insert(order_.corner_origin.end(), {c0, c1, c2});
     seeding_ = true;
   }
   unsigned gate_symbol(unsigned ctx, const Gate& gate, std::uint32_t right, std::uint32_t left,
                        Region& region, std::uint32_t& w) {
     const std::uint32_t oc = order_.corner_origin[gate.corner];
-    const std::uint32_t oo = in_.opposite[oc];
+    const std::uint32_t oo = corner_[oc].opposite;
     unsigned sym;
     if (oo == kNone) {
       sym = kBoundary;
     } else {
-      if (visited_[oo / 3]) throw InvalidArgument("compress: inconsistent opposite table");
-      const std::uint32_t orig = in_.vertex[oo];
+      const std::uint32_t orig = corner_[oo].vertex;
+      if (orig & kVisited) throw InvalidArgument("compress: inconsistent opposite table");
       std::uint32_t& id = dec_id_[orig];
       if (id == kNone) {
         sym = kNew;
@@ -316,7 +330,7 @@ class Encoder {
     return diag;
   }
   void check_zip(std::uint32_t k, std::uint32_t partner) {
-    if (in_.opposite[order_.corner_origin[k]] != order_.corner_origin[partner])
+    if (corner_[order_.corner_origin[k]].opposite != order_.corner_origin[partner])
       throw InvalidArgument("compress: a directed edge occurs twice (non-manifold input)");
   }
   [[noreturn]] void fail(const char* what) {
@@ -330,7 +344,12 @@ class Encoder {
   TraversalOrder& order_;
   Models m_;
   std::vector<std::uint32_t> dec_id_;
-  std::vector<std::uint8_t> visited_;
+  struct InputCorner {
+    std::uint32_t vertex;  // | kVisited once its triangle is decoded
+    std::uint32_t opposite;
+  };
+  static constexpr std::uint32_t kVisited = 0x80000000u;  // vertex ids stay below 2^30
+  std::vector<InputCorner> corner_;
   std::uint32_t seed_cursor_ = 0;
   std::uint32_t pending_ = 0;
   bool seeding_ = true;

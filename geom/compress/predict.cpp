@@ -1,5 +1,7 @@
 #include <geom/compress/predict.h>
 
+#include <geom/compress/scratch.h>
+
 #include <algorithm>
 #include <bit>
 #include <string>
@@ -36,6 +38,14 @@ struct Incidence {
     std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
     for (std::uint32_t c = 0; c < t.vertex.size(); ++c) corner[fill[t.vertex[c]]++] = c;
   }
+};
+
+/// What a corner k of vertex v contributes: a = vertex(next(k)), b = vertex(prev(k)) and
+/// c = vertex(opposite(k)) (kNone on a boundary). The decoder keeps each vertex's wedges
+/// contiguous (ascending corner order), one run per vertex instead of three scattered
+/// corner lookups per corner.
+struct Wedge {
+  std::uint32_t a, b, c;
 };
 
 /// The prediction of vertex w from earlier vertices; returns the number of parallelograms
@@ -169,39 +179,274 @@ void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsig
   }
 }
 
-void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
-                      RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q) {
-  const Incidence inc(table);
-  ResidualModels m;
-  const std::uint32_t top = static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1);
-  q.resize(n);
-  unsigned prev_len = 0, activity = 0;
-  std::vector<std::uint8_t> rlen(n, 0);
-  for (std::uint32_t w = 0; w < n; ++w) {
-    QPoint p;
-    const unsigned count = predict(table, inc, q, rlen, w, predictor, top, p, activity);
+namespace {
+
+/// Decodes a vertex's three residuals onto its prediction (shared by both decoders).
+class ResidualReader {
+ public:
+  ResidualReader(unsigned bits, RansDecoder& rans, BitReader& raw)
+      : rans_(rans), raw_(raw), top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)),
+        bits_(bits) {}
+  std::uint32_t top() const { return top_; }
+  /// Writes the decoded grid point to out; returns the largest residual length.
+  unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
+    unsigned longest = 0;
     for (unsigned x = 0; x < 3; ++x) {
-      const unsigned len = rans.decode(m.length[context(x, count, prev_len, activity)]);
-      std::uint32_t z = 0;
-      if (len == 1) {
-        z = 1;
-      } else if (len >= 2) {
-        if (len > 32) throw DecodeError(rans.offset(), "position residual too long");
+      const unsigned len = rans_.decode(m_.length[context(x, count, prev_len_, activity)]);
+      std::uint32_t z = len;  // lengths 0 and 1 are the values 0 and 1
+      if (len >= 2) {
+        if (len > 32) fail("position residual too long");
         const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
-        const std::uint64_t high = (std::uint64_t{1} << mb) | rans.decode(m.top[x * 33 + len]);
-        z = static_cast<std::uint32_t>((high << rb) | raw.get(rb));
+        const std::uint64_t high = (std::uint64_t{1} << mb) | rans_.decode(m_.top[x * 33 + len]);
+        z = static_cast<std::uint32_t>((high << rb) | raw_.get(rb));
       }
       const std::int64_t r = (z & 1u) ? -static_cast<std::int64_t>((z >> 1) + 1)
                                       : static_cast<std::int64_t>(z >> 1);
       const std::int64_t v = std::int64_t{p[x]} + r;
-      if (v < 0 || v > top)
-        throw DecodeError(rans.offset(), "decoded position off the " + std::to_string(bits) +
-                                             "-bit grid near byte " + std::to_string(rans.offset()));
-      q[w][x] = static_cast<std::uint32_t>(v);
-      prev_len = len;
-      if (len > rlen[w]) rlen[w] = static_cast<std::uint8_t>(len);
+      if (v < 0 || v > top_)
+        fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
+      out[x] = static_cast<std::uint32_t>(v);
+      prev_len_ = len;
+      longest = std::max(longest, len);
     }
+    return longest;
   }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    throw DecodeError(rans_.offset(),
+                      std::string(what) + " near byte " + std::to_string(rans_.offset()));
+  }
+  ResidualModels m_;
+  RansDecoder& rans_;
+  BitReader& raw_;
+  std::uint32_t top_;
+  unsigned bits_;
+  unsigned prev_len_ = 0;
+};
+
+/// The rounded mean of `count` parallelogram sums, clamped to the grid (floor division, so
+/// negative sums round the same on both sides).
+inline std::uint32_t rounded_mean(std::int64_t sum, unsigned count, std::uint32_t top) {
+  std::int64_t m = sum;
+  if (count > 1) {
+    const std::int64_t num = 2 * sum + count, den = 2 * std::int64_t{count};
+    m = num / den;
+    if ((num % den != 0) && (num < 0)) --m;
+  }
+  return static_cast<std::uint32_t>(std::clamp<std::int64_t>(m, 0, top));
+}
+
+}  // namespace
+
+void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
+                      RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q) {
+  const Incidence inc(table);
+  ResidualReader reader(bits, rans, raw);
+  q.resize(n);
+  unsigned activity = 0;
+  std::vector<std::uint8_t> rlen(n, 0);
+  for (std::uint32_t w = 0; w < n; ++w) {
+    QPoint p;
+    const unsigned count = predict(table, inc, q, rlen, w, predictor, reader.top(), p, activity);
+    rlen[w] = static_cast<std::uint8_t>(reader.read(p, count, activity, q[w].data()));
+  }
+}
+
+namespace {
+
+/// Codes residuals against predictions on the encoder side (the mirror of ResidualReader):
+/// `out` receives the vertex's true grid point.
+class ResidualWriter {
+ public:
+  ResidualWriter(std::span<const QPoint> q, unsigned bits, RansEncoder& rans, BitWriter& raw)
+      : q_(q), rans_(rans), raw_(raw),
+        top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)) {}
+  std::uint32_t top() const { return top_; }
+  unsigned code(std::uint32_t v, const QPoint& p, unsigned count, unsigned activity,
+                std::uint32_t* out) {
+    unsigned longest = 0;
+    for (unsigned x = 0; x < 3; ++x) {
+      out[x] = q_[v][x];
+      const std::int64_t r = std::int64_t{q_[v][x]} - std::int64_t{p[x]};
+      const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
+      const unsigned len = static_cast<unsigned>(std::bit_width(z));
+      rans_.encode(m_.length[context(x, count, prev_len_, activity)], len);
+      if (len >= 2) {
+        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
+        rans_.encode(m_.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+        raw_.put(z & ((1u << rb) - 1), rb);
+      }
+      prev_len_ = len;
+      longest = std::max(longest, len);
+    }
+    return longest;
+  }
+
+ private:
+  ResidualModels m_;
+  std::span<const QPoint> q_;
+  RansEncoder& rans_;
+  BitWriter& raw_;
+  std::uint32_t top_;
+  unsigned prev_len_ = 0;
+};
+
+inline unsigned code(ResidualReader& r, std::uint32_t, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return r.read(p, count, activity, out);
+}
+inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return w.code(v, p, count, activity, out);
+}
+
+/// The degree-order traversal with prediction and residual coding fused (see
+/// decode_positions_degree); Coder is ResidualReader or ResidualWriter. q (table numbering
+/// on entry for the writer) receives the grid points in the new order.
+template <class Coder>
+std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& reader,
+                                       std::vector<QPoint>& q) {
+  constexpr unsigned kTop = 2;
+  const std::uint32_t nc = t.n_vertices;
+  // Everything the traversal asks about a vertex (table numbering) in one record: its grid
+  // point, its place in the traversal (kNone until taken), where its wedges start, its
+  // degree and residual length. A vertex's record is in cache when it is raised, so its
+  // wedges can be prefetched before the traversal takes it.
+  struct Slot {
+    std::uint32_t q[3];
+    std::uint32_t order;
+    std::uint32_t first;  // its wedges are wedge[first, next record's first)
+    std::uint8_t degree, rlen;
+  };
+  std::vector<Slot> slot;
+  reserve_huge(slot, nc + 1);
+  slot.assign(nc + 1, Slot{{0, 0, 0}, kNone, 0, 0, 0});
+  std::vector<Wedge> wedge;
+  reserve_huge(wedge, t.vertex.size());
+  wedge.resize(t.vertex.size());
+  {
+    for (std::uint32_t v : t.vertex) ++slot[v + 1].first;
+    for (std::uint32_t i = 1; i <= nc; ++i) slot[i].first += slot[i - 1].first;
+    // Fill with the records' `order` fields as cursors, then restore them.
+    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = slot[i].first;
+    const std::uint32_t* vx = t.vertex.data();
+    const std::uint32_t* op = t.opposite.data();
+    for (std::size_t c = 0; c < t.vertex.size(); c += 3) {
+      const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
+      const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
+      wedge[slot[v0].order++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
+      wedge[slot[v1].order++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
+      wedge[slot[v2].order++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
+    }
+    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = kNone;
+  }
+  std::vector<std::uint32_t> bucket[kTop + 1];
+  for (auto& b : bucket) b.reserve(nc);
+  std::vector<std::uint32_t> seq(nc);
+  std::uint32_t seed = 0;
+  auto bump = [&](std::uint32_t x) {
+    Slot& sx = slot[x];
+    if (sx.degree < kTop) ++sx.degree;
+    bucket[sx.degree].push_back(x);
+    __builtin_prefetch(wedge.data() + sx.first);
+  };
+  unsigned last_rlen = 0;
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    std::uint32_t v = kNone;
+    for (int d = kTop; d >= 0 && v == kNone; --d) {
+      auto& b = bucket[d];
+      while (!b.empty()) {
+        const std::uint32_t x = b.back();
+        b.pop_back();
+        if (slot[x].order == kNone && slot[x].degree == d) {
+          v = x;
+          break;
+        }
+      }
+    }
+    if (v == kNone) {
+      while (slot[seed].order != kNone) ++seed;
+      v = seed;
+    }
+    // Predict from the vertices already taken (exactly decode_positions' rule on the
+    // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
+    const Wedge* w_begin = wedge.data() + slot[v].first;
+    const Wedge* w_end = wedge.data() + slot[v + 1].first;
+    std::int64_t sum[3] = {0, 0, 0};
+    unsigned count = 0, act_sum = 0, act_n = 0;
+    std::uint32_t neighbour = kNone, neighbour_order = 0;
+    for (const Wedge* we = w_begin; we != w_end; ++we) {
+      const Slot& sa = slot[we->a];
+      const Slot& sb = slot[we->b];
+      const bool da = sa.order != kNone, db = sb.order != kNone;
+      if (da) {
+        act_sum += sa.rlen, ++act_n;
+        if (neighbour == kNone || sa.order > neighbour_order) neighbour = we->a, neighbour_order = sa.order;
+      }
+      if (db) {
+        act_sum += sb.rlen, ++act_n;
+        if (neighbour == kNone || sb.order > neighbour_order) neighbour = we->b, neighbour_order = sb.order;
+      }
+      // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
+      // so raising here, before v is taken, pushes the same vertices in the same order.
+      if (db && !da) bump(we->a);
+      if (da && !db) bump(we->b);
+      if (!da || !db || we->c == kNone) continue;
+      const Slot& sc = slot[we->c];
+      if (sc.order == kNone) continue;
+      for (int x = 0; x < 3; ++x)
+        sum[x] += std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]} - std::int64_t{sc.q[x]};
+      ++count;
+    }
+    const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
+    QPoint p{0, 0, 0};
+    if (count > 0) {
+      for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[x], count, reader.top());
+    } else {
+      if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
+      if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
+    }
+    Slot& sv = slot[v];
+    last_rlen = code(reader, v, p, count, activity, sv.q);
+    sv.rlen = static_cast<std::uint8_t>(last_rlen);
+    sv.order = i;
+    seq[i] = v;
+  }
+  reserve_huge(q, n);
+  q.resize(n);
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    const Slot& s = slot[seq[i]];
+    q[i] = {s.q[0], s.q[1], s.q[2]};
+  }
+  {
+    // Renumber through a dense map (a quarter of the records' size, so it stays in cache).
+    std::vector<std::uint32_t> new_id(nc);
+    for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
+    for (std::uint32_t& v : t.vertex) v = new_id[v];
+  }
+  // Isolated vertices follow in stream order, predicted from the previous vertex.
+  for (std::size_t w = nc; w < n; ++w) {
+    const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
+    last_rlen = code(reader, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
+  }
+  return seq;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
+                                                   RansDecoder& rans, BitReader& raw,
+                                                   std::vector<QPoint>& q) {
+  ResidualReader reader(bits, rans, raw);
+  return degree_pass(table, n, reader, q);
+}
+
+std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
+                                                   unsigned bits, RansEncoder& rans, BitWriter& raw) {
+  ResidualWriter writer(q, bits, rans, raw);
+  std::vector<QPoint> reordered;
+  return degree_pass(table, q.size(), writer, reordered);
 }
 
 }  // namespace geom::codec::detail

@@ -29,7 +29,9 @@ enum class Predictor : std::uint8_t {
 
 /// Renumber the table's vertices in "most complete triangles first" order (a greedy
 /// traversal with bucket queues; deterministic, so the decoder repeats it). Returns the
-/// old vertex of each new vertex. Complexity: O(V + T).
+/// old vertex of each new vertex. Complexity: O(V + T). The reference definition of the
+/// order (FORMAT.md); the codec runs the fused encode/decode_positions_degree passes, which
+/// tests hold to this one.
 /// Ref: Draco's MaxPredictionDegreeTraverser (prediction-degree driven attribute order).
 std::vector<std::uint32_t> degree_order(CornerTable& table);
 
@@ -46,5 +48,20 @@ void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsig
 /// Complexity: O(V + T).
 void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
                       RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q);
+
+/// Decode n positions of a kMultiParallelogramDegree stream in one pass: the degree-order
+/// traversal takes a vertex and decodes it at once, so nothing is renumbered twice. Same
+/// result as degree_order(table) followed by decode_positions (table renumbered, q in the new
+/// order); returns the old vertex of each new vertex.
+/// Throws: DecodeError as decode_positions. Complexity: O(V + T).
+std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
+                                                   RansDecoder& rans, BitReader& raw,
+                                                   std::vector<QPoint>& q);
+
+/// The encoder's side of decode_positions_degree: q in the table's numbering (isolated
+/// vertices last); renumbers the table and returns the old vertex of each new vertex (the
+/// degree_order result), coding exactly what degree_order + encode_positions would.
+std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
+                                                   unsigned bits, RansEncoder& rans, BitWriter& raw);
 
 }  // namespace geom::codec::detail

@@ -42,8 +42,10 @@ void AdaptiveModel::rebuild() {
   f[best] += kProbScale - sum;
   cum_[0] = 0;
   for (unsigned s = 0; s < n_; ++s) cum_[s + 1] = cum_[s] + f[s];
+  // Boundaries past the alphabet sit above every slot, so find() may count a fixed number.
+  for (unsigned s = n_ + 1; s < cum_.size(); ++s) cum_[s] = kProbScale;
   unsigned s = 0;
-  for (unsigned i = 0; i < coarse_.size(); ++i) {
+  for (unsigned i = 0; n_ > kBranchFree && i < coarse_.size(); ++i) {
     while (cum_[s + 1] <= (i << kCoarseShift)) ++s;
     coarse_[i] = static_cast<std::uint8_t>(s);
   }

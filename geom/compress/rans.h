@@ -41,6 +41,13 @@ class AdaptiveModel {
   std::uint32_t freq(unsigned s) const { return cum_[s + 1] - cum_[s]; }
   /// The symbol whose interval holds slot (slot < 2^15).
   unsigned find(std::uint32_t slot) const {
+    // Small alphabets: count the boundaries at or below slot, branch-free (their symbols
+    // are the least predictable, so a scan's exit branch would mispredict often).
+    if (n_ <= kBranchFree) {
+      unsigned s = 0;
+      for (unsigned i = 1; i < kBranchFree; ++i) s += cum_[i] <= slot;
+      return s;
+    }
     // The coarse table jumps past most of a skewed alphabet; a short scan finishes.
     unsigned s = coarse_[slot >> kCoarseShift];
     while (cum_[s + 1] <= slot) ++s;
@@ -56,6 +63,7 @@ class AdaptiveModel {
   static constexpr std::uint32_t kIncrement = 32;
   static constexpr std::uint32_t kCountLimit = 1u << 16;
   static constexpr unsigned kCoarseShift = 10;
+  static constexpr unsigned kBranchFree = 8;
   void rebuild();
 
   unsigned n_;

@@ -1,6 +1,7 @@
 #include <geom/compress/container/codec.h>
 
 #include <geom/compress/attributes.h>
+#include <geom/compress/container/extension.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/connectivity.h>
 #include <geom/compress/predict.h>
@@ -29,7 +30,9 @@ constexpr std::uint8_t kFlagPolygons = 2;
 constexpr std::uint8_t kFlagLeftFirst = 4;
 constexpr std::uint8_t kFlagNormals = 8;
 constexpr std::uint8_t kFlagTexcoords = 16;
-constexpr std::uint8_t kKnownFlags = 31;
+// Per-corner and generic attributes, a block after every other section (extension.h).
+constexpr std::uint8_t kFlagExtension = 128;
+constexpr std::uint8_t kKnownFlags = 31 | kFlagExtension;
 // Conforming streams cannot hold more than this many triangles per connectivity byte or
 // vertices per geometry byte (kMinFreq bounds every symbol's cost from below; FORMAT.md).
 constexpr std::uint64_t kMaxTrianglesPerByte = 2048;
@@ -92,6 +95,7 @@ struct Core {
   std::vector<QPoint> q, normals, uvs;
   std::span<const std::uint8_t> order_rans, order_raw;
   std::uint64_t order_offset = 0, connectivity_offset = 0;
+  std::size_t extension_at = 0;  // the extension block runs from here to the end
 };
 
 void read_attribute_header(ByteReader& r, Header& h) {
@@ -171,6 +175,10 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
     core.order_rans = r.take(r.varint());
     core.order_raw = r.take(r.varint());
   }
+  if (h.flags & kFlagExtension) {
+    core.extension_at = r.offset();
+    r.take(r.remaining());  // decode_extension parses it once the table is known
+  }
   if (r.remaining() != 0) throw DecodeError(r.offset(), "trailing bytes after the last section");
   if (h.n_triangles > kMaxTrianglesPerByte * conn_rans.size() + 16 || h.n_triangles > (1u << 30) ||
       h.n_faces > h.n_triangles || (h.n_faces == 0) != (h.n_triangles == 0) ||
@@ -192,7 +200,6 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
       BitReader br(conn_raw, conn_raw_base);
       decode_connectivity(static_cast<std::size_t>(h.n_triangles), polygons, trav, rd, br, core.table);
       rd.finish();
-      if (h.predictor == Predictor::kMultiParallelogramDegree) degree_order(core.table);
     } else if (!conn_rans.empty() || !conn_raw.empty()) {
       throw DecodeError(conn_at, "connectivity data for an empty mesh");
     }
@@ -202,8 +209,12 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.n_vertices > 0) {
     RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
-    decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
-                     h.predictor, rd, br, core.q);
+    if (h.predictor == Predictor::kMultiParallelogramDegree)
+      decode_positions_degree(core.table, static_cast<std::size_t>(h.n_vertices),
+                              h.quantiser.bits, rd, br, core.q);
+    else
+      decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
+                       h.predictor, rd, br, core.q);
     rd.finish();
   } else if (!geom_rans.empty() || !geom_raw.empty()) {
     throw DecodeError(geom_at, "geometry data for an empty mesh");
@@ -302,14 +313,16 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     for (Predictor p : preds) {
       CornerTable table = c.table;
       std::vector<std::uint32_t> vertex_order = c.vertex_order;
-      if (p == Predictor::kMultiParallelogramDegree) {
-        const std::vector<std::uint32_t> seq = degree_order(table);
-        for (std::size_t i = 0; i < seq.size(); ++i) vertex_order[i] = c.vertex_order[seq[i]];
-      }
       for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[vertex_order[i]];
       RansEncoder re;
       BitWriter bw;
-      encode_positions(table, qd, quant.bits, p, re, bw);
+      if (p == Predictor::kMultiParallelogramDegree) {
+        // One fused pass renumbers the table and codes (qd is in the table's numbering).
+        const std::vector<std::uint32_t> seq = encode_positions_degree(table, qd, quant.bits, re, bw);
+        for (std::size_t i = 0; i < seq.size(); ++i) vertex_order[i] = c.vertex_order[seq[i]];
+      } else {
+        encode_positions(table, qd, quant.bits, p, re, bw);
+      }
       Streams g;
       if (nv > 0) g.rans = re.finish();
       g.raw = bw.finish();
@@ -379,7 +392,11 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
 
   ByteWriter w;
   for (std::uint8_t m : kMagic) w.u8(m);
-  const bool has_attributes = !attributes.normals.empty() || !attributes.uvs.empty();
+  const ExtensionEncoding extension =
+      encode_extension(mesh, options, flat, best.table, best.order.corner_origin, best.vertex_order,
+                       !attributes.normals.empty(), !attributes.uvs.empty());
+  const bool has_attributes =
+      !attributes.normals.empty() || !attributes.uvs.empty() || !extension.bytes.empty();
   w.u8(has_attributes ? kVersionAttributes : kVersion);
   std::uint8_t flags = 0;
   if (options.preserve_order) flags |= kFlagPreserveOrder;
@@ -387,6 +404,7 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   if (best.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
   if (!attributes.normals.empty()) flags |= kFlagNormals;
   if (!attributes.uvs.empty()) flags |= kFlagTexcoords;
+  if (!extension.bytes.empty()) flags |= kFlagExtension;
   w.u8(flags);
   w.u8(static_cast<std::uint8_t>(best.predictor));
   w.u8(static_cast<std::uint8_t>(quant.bits));
@@ -422,6 +440,9 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     write_section(w, order.raw);
     result.stats.order_bytes = w.bytes().size() - before;
   }
+  w.append(extension.bytes);
+  result.stats.attributes = extension.attributes;
+  result.stats.dropped_properties = extension.dropped;
   result.bytes = std::move(w.bytes());
   result.stats.bits = quant.bits;
   result.stats.step = quant.step;
@@ -523,6 +544,10 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
                         std::string("decoded faces do not form a valid mesh: ") + e.what());
     }
   }
+  if (h.flags & kFlagExtension)
+    apply_extension(decode_extension(bytes, core.extension_at, core.table, nv, h.flags & kFlagNormals,
+                                     h.flags & kFlagTexcoords),
+                    mesh, core.table, vertex_slot, face_slot, result.attributes);
   return result;
 }
 
@@ -551,7 +576,8 @@ FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
 }  // namespace codec
 
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
-                                std::size_t n_attributes) {
+                                std::size_t n_attributes, std::size_t n_corner_attributes,
+                                std::size_t n_generic_components) {
   const std::size_t n_tri = n_corners >= 2 * n_faces ? n_corners - 2 * n_faces : n_corners;
   // Every model symbol costs at most log2(2^15 / kMinFreq) = 10 bits (+ rounding; 11 used);
   // raw fields are at most 31 bits. Per triangle ≤ 12 symbols and 93 raw bits; per vertex
@@ -561,7 +587,8 @@ std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std
   const std::size_t order = (n_vertices * (11 + 31) + n_faces * (2 * 11 + 62) + 7) / 8 + 16;
   // An attribute codes like the positions (fewer bits, same bound) plus ≤ 26 header bytes
   // and two section lengths.
-  return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10);
+  return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10) +
+         max_extension_size(n_vertices, 3 * n_tri, n_corner_attributes, n_generic_components);
 }
 
 }  // namespace geom

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace geom {
@@ -36,9 +37,23 @@ struct CompressOptions {
   /// 0 drops them. The angular error is below 4.5 / 2^bits radians (0.25° at 10 bits).
   unsigned normal_bits = 10;
   /// Bits per texture coordinate (property "v:texcoord") on a grid across the larger UV
-  /// extent, 1–30; 0 drops them. Per-corner UVs and normals ("h:texcoord", "h:normal": seams,
-  /// creases) are not coded.
+  /// extent, 1–30; 0 drops them. normal_bits and texcoord_bits also apply to the per-corner
+  /// versions ("h:normal", "h:texcoord": normal creases, UV seams), coded with their seams.
   unsigned texcoord_bits = 12;
+  /// Bits per component of every other float or Eigen-vector vertex property ("v:color",
+  /// "v:sharpness", PLY's extra scalars, …), each component on its own grid across its
+  /// range, 1–30; 0 drops them.
+  unsigned attribute_bits = 12;
+};
+
+/// One attribute of the stream's extension block (per-corner normals and texture
+/// coordinates, generic vertex properties).
+struct AttributeStats {
+  std::string name;        ///< the property, e.g. "h:texcoord", "v:color"
+  std::size_t bytes = 0;   ///< its bytes in the stream
+  /// Normals: the angle bound in radians; otherwise the largest per-component error (the
+  /// component's grid step / 2; each component has its own grid).
+  double max_error = 0.0;
 };
 
 /// Where the bytes went, for reports and benchmarks.
@@ -56,6 +71,11 @@ struct CompressStats {
   /// 0 delta, 1 parallelogram, 2 multi-parallelogram, 3 multi-parallelogram in degree order
   int predictor = 0;
   int traversal = 0;
+  std::vector<AttributeStats> attributes;  ///< coded in the extension block
+  /// Properties of the input that the stream does not hold (decoding will not restore
+  /// them): face, edge and other halfedge properties, vertex properties of a type the
+  /// codec does not code, and attributes dropped by a bits option of 0.
+  std::vector<std::string> dropped_properties;
 };
 
 struct CompressResult {
@@ -69,14 +89,16 @@ struct CompressResult {
 };
 
 /// Compress a mesh (triangles, quads and n-gons; any number of components, boundaries and
-/// handles; isolated vertices kept). Vertex normals and texture coordinates (the properties
-/// build() creates from a file) are coded when present; other properties are not. A SurfaceMesh is manifold by construction, so non-manifold input never reaches the
+/// handles; isolated vertices kept). Vertex normals and texture coordinates, their per-corner
+/// versions with seams, and float / Eigen-vector vertex properties are coded when present;
+/// what is not coded is named in stats.dropped_properties. A SurfaceMesh is manifold by construction, so non-manifold input never reaches the
 /// codec: `geom compress` refuses a file whose loading had to split non-manifold edges or
 /// vertices (the split could not be undone on decode), naming the elements.
 /// Pre: finite positions.
 /// Throws: InvalidArgument for bits outside 1–30, a precision ≤ 0 or needing more than 30
 /// bits, a level outside 0–9, normal_bits outside {0} ∪ [2, 20], texcoord_bits above 30,
-/// non-finite positions, normals or texture coordinates (naming the vertex), or a polygon
+/// attribute_bits above 30, non-finite positions, normals, texture coordinates or
+/// attribute values (naming the vertex, or the halfedge of a corner), or a polygon
 /// that cannot be fanned without repeating an existing edge.
 /// Complexity: O(V + F) per configuration tried (1 at level 0, up to 8 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
@@ -91,6 +113,7 @@ struct DecompressResult {
   bool order_preserved = false;
   double max_error = 0.0;  ///< the stream's per-coordinate error bound (step / 2)
   double texcoord_max_error = 0.0;  ///< per UV coordinate (0 without texture coordinates)
+  std::vector<AttributeStats> attributes;  ///< those of the extension block, restored on the mesh
 };
 
 /// Decode a stream written by compress().
@@ -101,10 +124,12 @@ struct DecompressResult {
 DecompressResult decompress(std::span<const std::uint8_t> bytes);
 
 /// Upper bound on the size of compress()'s output for a mesh with these counts (corners =
-/// sum of face valences) and number of coded attributes (normals, texture coordinates: 0–2),
-/// at any options.
+/// sum of face valences), number of coded per-vertex attributes (normals, texture
+/// coordinates: 0–2), per-corner attributes ("h:normal", "h:texcoord": 0–2) and components
+/// of generic vertex attributes (1 per double, 3 per colour, …), at any options.
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
-                                std::size_t n_attributes = 0);
+                                std::size_t n_attributes = 0, std::size_t n_corner_attributes = 0,
+                                std::size_t n_generic_components = 0);
 
 namespace codec {
 /// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
@@ -116,7 +141,8 @@ struct FlatDecode {
   std::vector<float> normals;
   std::vector<float> texcoords;
 };
-/// Throws: DecodeError as decompress(). Ignores the order section.
+/// Throws: DecodeError as decompress(). Ignores the order section and the extension block
+/// (per-corner and generic attributes: they need the half-edge mesh).
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
 }  // namespace codec
 

@@ -1,0 +1,75 @@
+// The fused degree-order passes (encode_positions_degree / decode_positions_degree) against
+// the format's reference definition, degree_order() followed by encode_positions /
+// decode_positions: same vertex order, same renumbered table, byte-identical streams. The
+// fused passes are a speed-up only; streams of earlier encoders must keep decoding.
+
+#include "compress/meshes.h"
+
+#include <geom/compress/container/mesh_tables.h>
+#include <geom/compress/predict.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace geom::codec::detail {
+namespace {
+
+struct Coded {
+  std::vector<std::uint8_t> rans, raw;
+};
+
+void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, unsigned seed) {
+  const FlatMesh flat = flatten(arrays.build());
+  RansEncoder conn_rans;
+  BitWriter conn_raw;
+  CornerTable table;
+  TraversalOrder order;
+  encode_connectivity(flat.table, flat.polygons, Traversal::kLeftFirst, conn_rans, conn_raw, table,
+                      order);
+  // Random grid points (isolated vertices past the table's): residuals of every sign and
+  // length, predictions clamped at both grid ends.
+  std::mt19937 rng(seed);
+  const std::uint32_t top = (1u << bits) - 1;
+  std::vector<QPoint> q(table.n_vertices + 3);
+  for (QPoint& p : q)
+    for (auto& x : p) x = rng() % 4 == 0 ? (rng() % 2 ? top : 0) : rng() % (top + 1);
+
+  CornerTable ref_table = table;
+  const std::vector<std::uint32_t> ref_seq = degree_order(ref_table);
+  std::vector<QPoint> ref_q = q;
+  for (std::size_t i = 0; i < ref_seq.size(); ++i) ref_q[i] = q[ref_seq[i]];
+  RansEncoder ref_re;
+  BitWriter ref_bw;
+  encode_positions(ref_table, ref_q, bits, Predictor::kMultiParallelogramDegree, ref_re, ref_bw);
+  const Coded ref{ref_re.finish(), ref_bw.finish()};
+
+  CornerTable fused_table = table;
+  RansEncoder re;
+  BitWriter bw;
+  const std::vector<std::uint32_t> seq = encode_positions_degree(fused_table, q, bits, re, bw);
+  const Coded fused{re.finish(), bw.finish()};
+  EXPECT_EQ(seq, ref_seq);
+  EXPECT_EQ(fused_table.vertex, ref_table.vertex);
+  EXPECT_EQ(fused.rans, ref.rans);
+  EXPECT_EQ(fused.raw, ref.raw);
+
+  CornerTable dec_table = table;
+  RansDecoder rd(ref.rans, 0);
+  BitReader br(ref.raw, 0);
+  std::vector<QPoint> decoded;
+  EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded), ref_seq);
+  rd.finish();
+  EXPECT_EQ(dec_table.vertex, ref_table.vertex);
+  EXPECT_EQ(decoded, ref_q);
+}
+
+TEST(CompressFused, DegreeOrderPassesMatchTheReference) {
+  expect_fused_matches_reference(test::torus(30, 20).shuffled(1), 11, 1);
+  expect_fused_matches_reference(test::holey_slab(3, true).shuffled(2), 14, 2);
+  expect_fused_matches_reference(test::grid(9, 7, true), 3, 3);  // quads: fanned with diagonals
+  expect_fused_matches_reference(test::mixed_polygons(), 20, 4);
+}
+
+}  // namespace
+}  // namespace geom::codec::detail
