@@ -6,6 +6,7 @@
 #include <geom/compress/container/codec.h>
 
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <memory>
 
@@ -65,7 +66,18 @@ void add_compress_command(CLI::App& app) {
                         {"texcoord_bits_per_vertex", 8.0 * r.stats.texcoord_bytes / nv},
                         {"texcoord_max_error", r.stats.texcoord_max_error},
                         {"quantisation_bits", r.stats.bits},
-                        {"max_error", r.stats.max_error}};
+                        {"max_error", r.stats.max_error},
+                        {"dropped_properties", r.stats.dropped_properties}};
+    for (const AttributeStats& a : r.stats.attributes)
+      j["attributes"][a.name] = {{"bytes", a.bytes},
+                                 {"bits_per_vertex", 8.0 * a.bytes / nv},
+                                 {"max_error", a.max_error}};
+    // Properties the stream cannot hold must not vanish unnoticed.
+    if (!r.stats.dropped_properties.empty() && !args->common.quiet) {
+      std::string names;
+      for (const std::string& n : r.stats.dropped_properties) names += (names.empty() ? "" : ", ") + n;
+      std::cerr << "geom compress: warning: not stored, decompression will not restore: " << names << '\n';
+    }
     report(args->common, j,
            "wrote " + std::to_string(r.bytes.size()) + " bytes (" +
                std::to_string(8.0 * r.bytes.size() / nv) + " bits/vertex, max error " +
@@ -84,10 +96,13 @@ void add_compress_command(CLI::App& app) {
   cmd->add_flag("--preserve-order", args->options.preserve_order,
                 "Keep vertex and face order exactly (larger)");
   cmd->add_option("--normal-bits", args->options.normal_bits,
-                  "Octahedral bits per vertex-normal coordinate (2-20; 0 drops normals)")
+                  "Octahedral bits per normal coordinate, per vertex or corner (2-20; 0 drops normals)")
       ->check(CLI::Range(0, 20));
   cmd->add_option("--texcoord-bits", args->options.texcoord_bits,
-                  "Bits per texture coordinate (1-30; 0 drops them)")
+                  "Bits per texture coordinate, per vertex or corner (1-30; 0 drops them)")
+      ->check(CLI::Range(0, 30));
+  cmd->add_option("--attribute-bits", args->options.attribute_bits,
+                  "Bits per component of other vertex properties, e.g. v:color (1-30; 0 drops them)")
       ->check(CLI::Range(0, 30));
   add_common_options(cmd, args->common, kJson | kQuiet | kForce);
 }

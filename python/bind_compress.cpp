@@ -6,6 +6,8 @@
 
 #include <geom/compress/container/codec.h>
 
+#include <pybind11/stl.h>
+
 #include <cstring>
 #include <string>
 
@@ -34,7 +36,16 @@ void bind_compress(py::module_& m) {
       .def_readwrite("level", &CompressOptions::level)
       .def_readwrite("preserve_order", &CompressOptions::preserve_order)
       .def_readwrite("normal_bits", &CompressOptions::normal_bits)
-      .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits);
+      .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits)
+      .def_readwrite("attribute_bits", &CompressOptions::attribute_bits);
+  py::class_<AttributeStats>(m, "AttributeStats")
+      .def_readonly("name", &AttributeStats::name)
+      .def_readonly("bytes", &AttributeStats::bytes)
+      .def_readonly("max_error", &AttributeStats::max_error)
+      .def("__repr__", [](const AttributeStats& a) {
+        return "AttributeStats(name='" + a.name + "', bytes=" + std::to_string(a.bytes) +
+               ", max_error=" + std::to_string(a.max_error) + ")";
+      });
   py::class_<CompressStats>(m, "CompressStats")
       .def_readonly("header_bytes", &CompressStats::header_bytes)
       .def_readonly("connectivity_bytes", &CompressStats::connectivity_bytes)
@@ -47,7 +58,9 @@ void bind_compress(py::module_& m) {
       .def_readonly("step", &CompressStats::step)
       .def_readonly("max_error", &CompressStats::max_error)
       .def_readonly("predictor", &CompressStats::predictor)
-      .def_readonly("traversal", &CompressStats::traversal);
+      .def_readonly("traversal", &CompressStats::traversal)
+      .def_readonly("attributes", &CompressStats::attributes)
+      .def_readonly("dropped_properties", &CompressStats::dropped_properties);
   py::class_<CompressResult>(m, "CompressResult")
       .def_property_readonly("data", [](const CompressResult& r) { return bytes_object(r.bytes); })
       .def_property_readonly("vertex_permutation",
@@ -63,7 +76,8 @@ void bind_compress(py::module_& m) {
                              [](const DecompressResult& r) { return index_array(r.face_permutation); })
       .def_readonly("order_preserved", &DecompressResult::order_preserved)
       .def_readonly("max_error", &DecompressResult::max_error)
-      .def_readonly("texcoord_max_error", &DecompressResult::texcoord_max_error);
+      .def_readonly("texcoord_max_error", &DecompressResult::texcoord_max_error)
+      .def_readonly("attributes", &DecompressResult::attributes);
   m.def(
       "compress",
       [](const SurfaceMesh& mesh, const CompressOptions& options) {

@@ -19,7 +19,8 @@ dense (live elements counted in index order)."""
 
 
 def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
-             normal_bits=10, texcoord_bits=12, return_permutation=False):
+             normal_bits=10, texcoord_bits=12, attribute_bits=12, return_permutation=False,
+             return_stats=False):
     """Compress ``mesh`` (triangles and polygons, any number of components, boundaries and
     handles) to .gmc bytes.
 
@@ -30,23 +31,32 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     corner exactly (at a size cost); otherwise the codec reorders for size. Per-vertex
     normals (octahedral, ``normal_bits`` 2–20, angle error < 4.5 / 2**normal_bits radians)
     and texture coordinates (``texcoord_bits`` 1–30 across the UV box) travel when the mesh
-    has them (e.g. loaded from a PLY with nx/ny/nz, s/t); 0 drops them.
+    has them (e.g. loaded from a PLY with nx/ny/nz, s/t); 0 drops them. The same bits apply
+    to per-corner normals and texture coordinates (an OBJ with UV seams or normal creases),
+    which travel with their seams. Other float / vector vertex properties (colours, PLY
+    scalars) are quantised per component to ``attribute_bits`` (1–30; 0 drops them) and come
+    back under their names. Face and edge properties are not stored:
+    ``return_stats=True`` appends the CompressStats, whose ``dropped_properties`` names them.
 
     Returns the bytes, or ``(bytes, Permutation)`` with ``return_permutation=True`` — the
     permutation is the only way to map decoded elements back to the input when the order
-    is not preserved. Raises ValueError (geom.InvalidArgument) for bits, precision or level
+    is not preserved — then the CompressStats with ``return_stats=True``. Raises ValueError (geom.InvalidArgument) for bits, precision or level
     out of range, or non-finite positions.
     """
     options = {"bits": bits, "level": level, "preserve_order": preserve_order,
-               "normal_bits": normal_bits, "texcoord_bits": texcoord_bits}
+               "normal_bits": normal_bits, "texcoord_bits": texcoord_bits,
+               "attribute_bits": attribute_bits}
     if precision is not None:
         if not precision > 0:
             raise _geom.InvalidArgument(f"compress: precision must be positive, got {precision}")
         options["precision"] = precision
     result = _geom.compress(mesh, make(CompressOptions, options))
+    out = (result.data,)
     if return_permutation:
-        return result.data, Permutation(result.vertex_permutation, result.face_permutation)
-    return result.data
+        out += (Permutation(result.vertex_permutation, result.face_permutation),)
+    if return_stats:
+        out += (result.stats,)
+    return out if len(out) > 1 else out[0]
 
 
 def decompress(data):

@@ -1,5 +1,7 @@
 """geom.compress / geom.decompress (geom/compress through the binding)."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -162,3 +164,70 @@ def test_cli_normals_and_texcoords_round_trip_in_order(run, tmp_path):
     assert np.arccos(cos).max() <= 4.5 / 2 ** 12
     uv_bound = 0.5 * (uv.max(axis=0) - uv.min(axis=0)).max() / (2 ** 12 - 1)
     assert np.abs(rows["vt"] - uv).max() <= uv_bound * (1 + 1e-9)
+
+
+def _seamed_band_obj(path, nu=12):
+    """A cylinder band of nu quads with coloured vertices and UVs cut where u wraps (u = 1 on
+    the last column's right edge, 0 on the first column's left): per-corner UVs with a seam.
+    Returns the corner UVs face by face and the colours."""
+    theta = 2 * np.pi * np.arange(nu) / nu
+    v = np.r_[np.c_[np.cos(theta), np.sin(theta), np.zeros(nu)],
+              np.c_[np.cos(theta), np.sin(theta), np.ones(nu)]]
+    color = np.c_[np.linspace(0, 1, 2 * nu), np.full(2 * nu, 0.5), np.linspace(1, 0.2, 2 * nu)]
+    lines = ["v " + " ".join(repr(float(x)) for x in row) for row in np.c_[v, color]]
+    lines += [f"vt {i / nu!r} {j!r}" for j in (0.0, 1.0) for i in range(nu + 1)]
+    corners = []
+    for i in range(nu):
+        quad = [(i, i, 0), ((i + 1) % nu, i + 1, 0), ((i + 1) % nu + nu, i + 1, 1), (i + nu, i, 1)]
+        lines.append("f " + " ".join(f"{vi + 1}/{j * (nu + 1) + ti + 1}" for vi, ti, j in quad))
+        corners.append([(ti / nu, float(j)) for _, ti, j in quad])
+    path.write_text("\n".join(lines) + "\n")
+    return np.array(corners), color
+
+
+def _corner_uvs(path):
+    """Per-corner vt of an OBJ, face by face."""
+    vt, faces = [], []
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if words and words[0] == "vt":
+            vt.append([float(x) for x in words[1:3]])
+        elif words and words[0] == "f":
+            faces.append([vt[int(w.split("/")[1]) - 1] for w in words[1:]])
+    return np.array(faces)
+
+
+def test_corner_uvs_with_a_seam_and_colours_round_trip(tmp_path):
+    src, back = tmp_path / "band.obj", tmp_path / "back.obj"
+    uv, color = _seamed_band_obj(src)
+    mesh = geom.load(src)
+    data, stats = geom.compress(mesh, preserve_order=True, return_stats=True)
+    assert stats.dropped_properties == []
+    coded = {a.name: a for a in stats.attributes}
+    assert set(coded) == {"h:texcoord", "v:color"}
+    out, perm = geom.decompress(data)
+    assert perm is not None
+    geom.save(out, back)
+    uv_out = _corner_uvs(back)
+    assert uv_out.shape == uv.shape
+    assert np.abs(uv_out - uv).max() <= coded["h:texcoord"].max_error * (1 + 1e-9)
+    # The seam survives: the last quad's right corners sit at u = 1, the first's left at 0.
+    assert uv_out[-1, 1, 0] > 0.99 and uv_out[0, 0, 0] < 0.01
+    rows, _ = read_obj(back)
+    bound = 0.5 * (color.max(axis=0) - color.min(axis=0)) / (2 ** 12 - 1)
+    assert np.all(np.abs(rows["v"][:, 3:] - color) <= bound * (1 + 1e-9) + 1e-15)
+
+
+def test_cli_names_the_properties_it_cannot_store(run, tmp_path):
+    src, gmc = tmp_path / "q.ply", tmp_path / "q.gmc"
+    src.write_text("\n".join([
+        "ply", "format ascii 1.0", "element vertex 4", "property float x", "property float y",
+        "property float z", "element face 2", "property list uchar int vertex_indices",
+        "property float quality", "end_header",
+        "0 0 0", "1 0 0", "1 1 0", "0 1 0", "3 0 1 2 0.5", "3 0 2 3 0.25"]) + "\n")
+    r = run("compress", src, gmc, "--json", "--attribute-bits", "10")
+    assert r.returncode == 0, r.stderr
+    assert "warning" in r.stderr and "f:quality" in r.stderr
+    assert json.loads(r.stdout)["dropped_properties"] == ["f:quality"]
+    r = run("compress", src, gmc, "--force", "--quiet")
+    assert r.returncode == 0 and r.stderr == ""
