@@ -8,7 +8,11 @@
 // arrays, which is what Draco's and meshoptimizer's decoders return, so dec/draco_cl10
 // compares those.
 //
-// Usage: bench_compress [--quick]   (--quick: a 100k-triangle synthetic mesh, no sweep)
+// Usage: bench_compress [--quick] [--only NAME] [--no-sweep]
+//   --quick: a 100k-triangle synthetic mesh, no sweep; --only: meshes whose name contains
+//   NAME (the synthetic one is "...-sub-flip-shuffled"); --no-sweep: skip the bits sweep.
+// A third table compares the cost of per-corner texture coordinates with seams (real textured
+// meshes from GEOM_DATA_DIR) against Draco's, in bench-out/compress_texcoords.csv.
 // Writes bench-out/compress.csv and bench-out/compress_bits.csv; the accuracy chart (one
 // command):
 //   bench/plot.py bench-out/compress_bits.csv --x max_err --y bpv --group codec --logx
@@ -18,11 +22,13 @@
 #include "support/harness.h"
 
 #include <geom/compress/container/codec.h>
+#include <geom/core/soup.h>
 #include <geom/io/io.h>
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
 #include <meshoptimizer.h>
 
 #include <cmath>
@@ -244,10 +250,96 @@ Row run_meshopt(const Flat& f, unsigned bits) {
   return r;
 }
 
+/// Draco's bytes for positions + per-corner UVs (its corner table codes the UV seams), with
+/// the positions alone, at compression level cl; the difference is what the UVs cost.
+std::pair<std::size_t, std::size_t> draco_uv_bytes(const SurfaceMesh& m, unsigned bits, unsigned uv_bits, int cl) {
+  const auto uv = m.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  std::size_t sizes[2] = {0, 0};
+  for (int with_uv = 0; with_uv < 2; ++with_uv) {
+    std::vector<std::array<Halfedge, 3>> tris;
+    for (Face f : m.faces()) {
+      std::vector<Halfedge> c(m.halfedges(f).begin(), m.halfedges(f).end());
+      for (std::size_t i = 1; i + 1 < c.size(); ++i) tris.push_back({c[0], c[i], c[i + 1]});
+    }
+    draco::TriangleSoupMeshBuilder b;
+    b.Start(static_cast<int>(tris.size()));
+    const int pos = b.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    const int tex = with_uv ? b.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32) : -1;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      float p[3][3], q[3][2];
+      for (int k = 0; k < 3; ++k) {
+        const Point& x = m.position(m.to_vertex(tris[t][k]));
+        for (int a = 0; a < 3; ++a) p[k][a] = float(x[a]);
+        for (int a = 0; a < 2; ++a) q[k][a] = float(uv[tris[t][k]][a]);
+      }
+      const draco::FaceIndex fi(static_cast<std::uint32_t>(t));
+      b.SetAttributeValuesForFace(pos, fi, p[0], p[1], p[2]);
+      if (with_uv) b.SetAttributeValuesForFace(tex, fi, q[0], q[1], q[2]);
+    }
+    const std::unique_ptr<draco::Mesh> dm = b.Finalize();
+    draco::Encoder enc;
+    enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, static_cast<int>(bits));
+    enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, static_cast<int>(uv_bits));
+    enc.SetSpeedOptions(10 - cl, 10 - cl);
+    enc.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+    draco::EncoderBuffer buf;
+    if (!dm || !enc.EncodeMeshToBuffer(*dm, &buf).ok()) throw Error("draco encode failed");
+    sizes[with_uv] = buf.size();
+  }
+  return {sizes[1], sizes[1] - sizes[0]};
+}
+
+/// Texture coordinates with seams (per-corner UVs, as a textured OBJ loads): bits per vertex
+/// of the UV layer, ours (seam bits + wedge values) against Draco's, 12-bit UVs both.
+void texcoord_table(const std::filesystem::path& dir, unsigned bits, const std::string& only) {
+  Table t({"mesh", "V", "corners", "codec", "bytes", "bpv", "uv_bytes", "uv_bpv", "uv_max_err"});
+  bool any = false;
+  for (const char* name : {"spot_triangulated.obj", "beast.obj"}) {
+    if (std::string(name).find(only) == std::string::npos) continue;
+    SurfaceMesh m;
+    try {
+      m = load_mesh(dir / name).mesh;
+    } catch (const std::exception& e) {
+      std::cerr << "skip " << name << ": " << e.what() << '\n';
+      continue;
+    }
+    if (!m.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord)) continue;
+    std::size_t corners = 0;
+    for (Face f : m.faces()) corners += m.valence(f);
+    const double nv = static_cast<double>(m.n_vertices());
+    auto add = [&](const std::string& codec, std::size_t bytes, std::size_t uv_bytes, const std::string& err) {
+      any = true;
+      t.add({name, std::to_string(m.n_vertices()), std::to_string(corners), codec, std::to_string(bytes),
+             fmt(8.0 * bytes / nv, 4), std::to_string(uv_bytes), fmt(8.0 * uv_bytes / nv, 4), err});
+    };
+    const CompressResult c = compress(m, {.bits = bits});
+    for (const AttributeStats& a : c.stats.attributes)
+      if (a.name == prop::kCornerTexCoord) add("geom L7", c.bytes.size(), a.bytes, fmt(a.max_error, 3));
+    for (int cl : {7, 10}) {
+      const auto [bytes, uv_bytes] = draco_uv_bytes(m, bits, 12, cl);
+      add("draco cl" + std::to_string(cl), bytes, uv_bytes, "-");
+    }
+  }
+  if (!any) return;
+  t.print();
+  t.write_csv(out_dir() / "compress_texcoords.csv");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  bool quick = false, sweep_bits = true;
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--no-sweep") sweep_bits = false;
+    else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    else {
+      std::cerr << "usage: bench_compress [--quick] [--only NAME] [--no-sweep]\n";
+      return 2;
+    }
+  }
   const unsigned bits = 11;
   std::vector<Flat> meshes;
   const auto dir = data_dir();
@@ -265,6 +357,8 @@ int main(int argc, char** argv) {
   }
   if (bunny.tris.empty()) bunny = torus(200, 150);
   meshes.insert(meshes.begin(), big_mesh(bunny, quick ? 100000 : 1000000));
+  if (!only.empty())
+    std::erase_if(meshes, [&](const Flat& f) { return f.name.find(only) == std::string::npos; });
 
   Table table({"mesh", "V", "F", "codec", "bytes", "bpv", "bpv_conn", "bpv_geom", "encode_ms",
                "decode_ms", "decode_flat_ms", "max_err", "size/draco_cl10", "dec/draco_cl10"});
@@ -290,7 +384,8 @@ int main(int argc, char** argv) {
   }
   table.print();
   table.write_csv(out_dir() / "compress.csv");
-  if (quick) return 0;
+  if (dir) texcoord_table(*dir, bits, only);
+  if (quick || !sweep_bits || meshes.empty()) return 0;
 
   // What accuracy costs: bits against size, error and time on the big mesh.
   Table sweep({"bits", "codec", "bytes", "bpv", "max_err", "rms_err", "encode_ms", "decode_ms"});
