@@ -1,10 +1,12 @@
 #include <geom/compress/connectivity.h>
 
-#include <geom/compress/scratch.h>
+#include <geom/core/huge_pages.h>
 
 #include <string>
 
 namespace geom::codec::detail {
+
+using geom::detail::reserve_huge;
 
 namespace {
 

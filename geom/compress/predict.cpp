@@ -1,12 +1,14 @@
 #include <geom/compress/predict.h>
 
-#include <geom/compress/scratch.h>
+#include <geom/core/huge_pages.h>
 
 #include <algorithm>
 #include <bit>
 #include <string>
 
 namespace geom::codec::detail {
+
+using geom::detail::reserve_huge;
 
 namespace {
 

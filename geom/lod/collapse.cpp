@@ -1,5 +1,7 @@
 #include <geom/lod/collapse.h>
 
+#include <geom/core/huge_pages.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -7,10 +9,6 @@
 #include <cmath>
 #include <string>
 #include <unordered_set>
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 namespace geom::detail {
 
@@ -42,18 +40,6 @@ std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
     if (clear) return apex;
   }
   return 0;
-}
-
-// Ask Linux for transparent huge pages on the whole 2 MiB pages of [data, data + bytes)
-// (only a hint; most systems grant them only on request): random reads over arrays of
-// hundreds of megabytes otherwise miss the TLB as well as the cache.
-void advise_huge_pages([[maybe_unused]] const void* data, [[maybe_unused]] std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kPage = std::uintptr_t{1} << 21;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#endif
 }
 
 }  // namespace

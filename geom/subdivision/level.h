@@ -14,15 +14,12 @@
 ///  - faces: the children of parent face f in corner order (Loop's middle one last), each
 ///    rotated so that the child of corner j is its corner j (quads and triangles).
 
+#include <geom/core/huge_pages.h>
 #include <geom/core/surface_mesh.h>
 #include <geom/subdivision/creases.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 #include <cstdint>
 #include <cstdlib>
@@ -63,9 +60,7 @@ struct NoInitAllocator : std::allocator<T> {
     const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
     void* p = std::aligned_alloc(kHugePage, rounded);
     if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-    ::madvise(p, rounded, MADV_HUGEPAGE);
-#endif
+    advise_huge_pages(p, rounded);
     return static_cast<T*>(p);
   }
   void deallocate(T* p, std::size_t n) {
