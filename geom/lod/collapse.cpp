@@ -57,6 +57,8 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
 
   // Dense numbering of the vertices that faces use.
   std::vector<std::uint32_t> dense(mesh.vertices_size(), kNone);
+  vertex_of_.reserve(mesh.n_vertices());
+  original_positions_.reserve(mesh.n_vertices());
   for (Vertex v : mesh.vertices()) {
     if (mesh.is_isolated(v)) continue;
     dense[v.idx()] = static_cast<std::uint32_t>(vertex_of_.size());
@@ -93,7 +95,8 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     const double diag = box.diagonal().norm();
     scale_ = diag > 0 && std::isfinite(diag) ? diag : 1.0;
   }
-  model_ = original_positions_;
+  // Only a progressive mesh needs the input positions once collapses start.
+  model_ = record_ ? original_positions_ : std::move(original_positions_);
   // Huge pages: the main loop reads these arrays at random, one neighbourhood per collapse.
   vd_.reserve(n);
   advise_huge_pages(vd_.data(), n * sizeof(VertexData));
@@ -159,15 +162,18 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
   if (options.attributes.any() && !record_) init_attributes(mesh);
 
+  std::vector<Candidate> initial;
+  initial.reserve(3 * n + 16);  // the edges of a closed surface, about
   for (std::uint32_t a = 0; a < n; ++a) {
     ++mark_token_;
     for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i)
       for (std::uint32_t b : triangles_[refs_[i]])
         if (b > a && vd_[b].mark != mark_token_ && !(vd_[a].locked && vd_[b].locked)) {
           vd_[b].mark = mark_token_;
-          queue_.push({static_cast<float>(place(a, b).cost), a, b, 0});
+          initial.push_back({static_cast<float>(place(a, b).cost), a, b, 0});
         }
   }
+  queue_.assign(std::move(initial));
 }
 
 std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
@@ -183,11 +189,25 @@ int CollapseEngine::RadixQueue::bucket(std::uint32_t k) const {
 void CollapseEngine::RadixQueue::push(Candidate c) {
   std::uint32_t k = key(c.cost);
   if (k < last_) {
+    // Below the entries still in the buckets: its place is among those taken ahead.
+    std::size_t at = n_ahead_++;
+    for (; at > 0 && key(ahead(at - 1).cost) > k; --at) ahead(at) = ahead(at - 1);
+    ahead(at) = c;
+    if (n_ahead_ <= kAheadMax) return;
+    // Full: the dearest goes back, at last_ (its true cost is at most that).
+    c = ahead(--n_ahead_);
     k = last_;
     c.cost = std::bit_cast<float>(k);
   }
   buckets_[bucket(k)].push_back(c);
   ++size_;
+}
+
+void CollapseEngine::RadixQueue::assign(std::vector<Candidate> entries) {
+  // All in the top bucket: the first settle() finds their minimum and spreads them out, as
+  // it does with any bucket. No key has bit 31 set, so none lands there again.
+  size_ = entries.size();
+  buckets_[32] = std::move(entries);
 }
 
 bool CollapseEngine::RadixQueue::current(const Candidate& c) const {
@@ -223,13 +243,26 @@ void CollapseEngine::RadixQueue::settle() {
   }
 }
 
-bool CollapseEngine::RadixQueue::pop(Candidate& out) {
-  for (;;) {
+void CollapseEngine::RadixQueue::top_up() {
+  while (n_ahead_ < kAhead) {
     settle();
-    if (size_ == 0) return false;
-    out = buckets_[0].back();
+    if (size_ == 0) return;
+    const Candidate c = buckets_[0].back();
     buckets_[0].pop_back();
     --size_;
+    if (!current(c)) continue;
+    // Not cheaper than anything ahead: it goes last.
+    ahead(n_ahead_++) = c;
+  }
+}
+
+bool CollapseEngine::RadixQueue::pop(Candidate& out) {
+  for (;;) {
+    top_up();
+    if (n_ahead_ == 0) return false;
+    out = ahead(0);
+    head_ = (head_ + 1) % kRing;
+    --n_ahead_;
     if (current(out)) return true;
   }
 }
@@ -245,11 +278,12 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
   // are ties.
   const double noise = 1e-12 * (q.a00 + q.a11 + q.a22 + std::abs(q.b0) + std::abs(q.b1) +
                                 std::abs(q.b2) + std::abs(q.c));
-  Placement best{q.evaluate(vd_[a].p), vd_[a].p, 1};
-  const double cb = q.evaluate(vd_[b].p);
-  if (cb < best.cost - noise) best = {cb, vd_[b].p, 2};
-  const double cm = q.evaluate(mid);
-  if (cm < best.cost - noise) best = {cm, mid, 3};
+  // Which end is cheaper is a coin toss: pick it by index rather than by a branch that
+  // would be mispredicted half the time.
+  const double ends[2] = {q.evaluate(vd_[a].p), q.evaluate(vd_[b].p)};
+  const Point* end_points[2] = {&vd_[a].p, &vd_[b].p};
+  const int e = ends[1] < ends[0] - noise;
+  Placement best{ends[e], *end_points[e], 1 + e};
   const Point opt = q.minimizer(mid);
   // The optimum must stay near the edge: a far-away minimiser of a nearly singular quadric
   // is numerically meaningless even when finite.
@@ -259,7 +293,12 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
     // which matters on flat regions and at corners where every choice costs ~0.
     const double co = q.evaluate(opt);
     if (co < best.cost - noise) best = {co, opt, 0};
+    // The minimiser, taken relative to the midpoint, costs no more than the midpoint
+    // (Q(mid + δ) = Q(mid) − Σ (u·r)²/λ over the kept eigenvectors u): no need to try it.
+    return best;
   }
+  const double cm = q.evaluate(mid);
+  if (cm < best.cost - noise) best = {cm, mid, 3};
   return best;
 }
 
@@ -297,11 +336,6 @@ void CollapseEngine::drop_ref(std::uint32_t w, std::uint32_t t) {
   --vd_[w].ref_size;
 }
 
-bool CollapseEngine::has_tri_with(std::uint32_t t, std::uint32_t x) const {
-  const auto& tri = triangles_[t];
-  return tri[0] == x || tri[1] == x || tri[2] == x;
-}
-
 // Whether triangle t stays acceptable when its corner `moved` goes to p: no flip against its
 // current normal, and no drop below the quality bound unless it was already that poor.
 bool CollapseEngine::face_ok(std::uint32_t t, std::uint32_t moved, const Point& p) const {
@@ -316,8 +350,13 @@ bool CollapseEngine::face_ok(std::uint32_t t, std::uint32_t moved, const Point& 
   const Point& c1 = k == 2 ? p : c;
   const Eigen::Vector3d n1 = (b1 - a1).cross(c1 - a1);
   if (n0.squaredNorm() > 0 && !(n0.dot(n1) > 0)) return false;
+  // Most triangles pass the quality bound by far; those above twice the bound are let
+  // through without a square root (quality² = 12·|n|² / s²).
+  const double s1 = (b1 - a1).squaredNorm() + (c1 - b1).squaredNorm() + (a1 - c1).squaredNorm();
+  const double m = options_.min_triangle_quality;
+  if (12.0 * n1.squaredNorm() > 4.0 * m * m * s1 * s1) return true;
   const double q1 = quality(a1, b1, c1, n1.norm());
-  return !(q1 < options_.min_triangle_quality && q1 < quality(a, b, c, n0.norm()));
+  return !(q1 < m && q1 < quality(a, b, c, n0.norm()));
 }
 
 void CollapseEngine::ensure_refs(std::size_t extra) {
@@ -462,12 +501,46 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   }
 }
 
+// Each collapse lands somewhere random on the surface, and its data is a chain of dependent
+// loads (vertex record → triangle list → triangles → neighbours' records). Fetch that chain
+// for the next few queued collapses in stages, one link per stage, so that by the time a
+// collapse comes up its neighbourhood is in cache, and the misses of several collapses
+// overlap instead of stalling one after another.
+void CollapseEngine::prefetch_upcoming() const {
+  auto ends = [](const Candidate* c) { return std::array<std::uint32_t, 2>{c->a, c->b}; };
+  if (const Candidate* c = queue_.peek(6))
+    for (std::uint32_t x : ends(c)) {
+      __builtin_prefetch(&vd_[x].q);
+      __builtin_prefetch(&vd_[x].p);
+      __builtin_prefetch(&weight_[x]);
+    }
+  if (const Candidate* c = queue_.peek(4))
+    for (std::uint32_t x : ends(c)) {
+      const std::uint32_t* list = refs_.data() + vd_[x].ref_begin;
+      __builtin_prefetch(list);
+      if (vd_[x].ref_size > 1) __builtin_prefetch(list + vd_[x].ref_size - 1);
+    }
+  if (const Candidate* c = queue_.peek(2))
+    for (std::uint32_t x : ends(c))
+      for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i)
+        __builtin_prefetch(&triangles_[refs_[i]]);
+  if (const Candidate* c = queue_.peek(0))
+    for (std::uint32_t x : ends(c))
+      for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i)
+        for (std::uint32_t w : triangles_[refs_[i]]) {
+          __builtin_prefetch(&vd_[w].q);
+          __builtin_prefetch(&vd_[w].p);
+          __builtin_prefetch(&stamp_[w]);
+        }
+}
+
 SimplifyStop CollapseEngine::run(std::size_t target) {
   const std::size_t start = alive_triangles_;
   std::size_t next_report = 4096;
   while (alive_triangles_ > target) {
     Candidate c;
     if (!queue_.pop(c)) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
+    prefetch_upcoming();
     const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;

@@ -20,7 +20,9 @@
 /// the surface. So what a collapse reads of a vertex and its neighbours (quadric, position,
 /// mark, triangle list, flags) sits in one two-line record (VertexData), triangle lists
 /// hold live triangles only (a dead one leaves its three lists at once), and the big arrays
-/// ask for huge pages.
+/// ask for huge pages. And since the queue knows the next few collapses, their data is
+/// fetched ahead, link by link of the chain record → list → triangles → neighbours, so
+/// the misses of several collapses overlap instead of stalling one after another.
 
 #include <geom/core/surface_mesh.h>
 #include <geom/lod/attribute_quadric.h>
@@ -95,26 +97,44 @@ class CollapseEngine {
     float cost;
     std::uint32_t a, b, stamps;
   };
-  /// Entries pushed below the last popped cost (possible only through round-off or the
-  /// endpoint fallback of the placement) are queued at that cost: they come out next.
+  /// The next few entries wait, in order, in a small ring outside the buckets; pushes
+  /// cheaper than the buckets' minimum are inserted there. Entries pushed below the last
+  /// popped cost (possible only through round-off or the endpoint fallback of the
+  /// placement) therefore come out next.
   class RadixQueue {
    public:
     /// Entries whose stamps no longer match these (one per vertex) are outdated.
     void watch(const std::uint32_t* stamps) { stamps_ = stamps; }
     void push(Candidate c);
+    /// Start from these entries (queue empty): one array, not grown push by push.
+    void assign(std::vector<Candidate> entries);
     /// Remove a current entry of the smallest cost into out; false when none is left.
     bool pop(Candidate& out);
+    /// The entry that comes out k pops from now if nothing cheaper is pushed meanwhile
+    /// (k < kAhead), or null: the engine fetches the memory of upcoming collapses early.
+    const Candidate* peek(std::size_t k) const {
+      return k < n_ahead_ ? &ahead_[(head_ + k) % kRing] : nullptr;
+    }
+    static constexpr std::size_t kAhead = 8;
 
    private:
     bool current(const Candidate& c) const;
+    /// Keep the next kAhead entries (or all that are left) in ahead_.
+    void top_up();
     /// Make bucket 0 hold the current entries of the smallest cost, unless none is left.
     void settle();
     static std::uint32_t key(float cost);
     int bucket(std::uint32_t k) const;
     std::array<std::vector<Candidate>, 33> buckets_;
     std::uint32_t last_ = 0;
-    std::size_t size_ = 0;
+    std::size_t size_ = 0;  // in buckets_
     const std::uint32_t* stamps_ = nullptr;
+    // The cheapest entries, taken out of the buckets ahead of time: a ring from head_, by
+    // increasing cost. Pushes cheaper than last_ are inserted here, in order.
+    static constexpr std::size_t kRing = 4 * kAhead, kAheadMax = kRing - 1;
+    Candidate& ahead(std::size_t k) { return ahead_[(head_ + k) % kRing]; }
+    std::array<Candidate, kRing> ahead_{};
+    std::size_t head_ = 0, n_ahead_ = 0;
   };
   struct Placement {
     double cost;
@@ -125,7 +145,12 @@ class CollapseEngine {
   Placement place(std::uint32_t a, std::uint32_t b) const;
   void push_edge(std::uint32_t a, std::uint32_t b);
   void push_vertex_edges(std::uint32_t v);
-  bool has_tri_with(std::uint32_t t, std::uint32_t x) const;
+  void prefetch_upcoming() const;
+  // Forced inline: the collapse checks call it for every triangle around both ends.
+  [[gnu::always_inline]] bool has_tri_with(std::uint32_t t, std::uint32_t x) const {
+    const auto& tri = triangles_[t];
+    return tri[0] == x || tri[1] == x || tri[2] == x;
+  }
   void drop_ref(std::uint32_t w, std::uint32_t t);
   int try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
   void collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);

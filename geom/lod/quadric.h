@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+
 namespace geom {
 
 /// Q(x) = xᵀAx + 2bᵀx + c for symmetric A.
@@ -40,7 +42,13 @@ struct Quadric {
   }
 
   /// Q(x); clamped at 0 (round-off can make it slightly negative).
-  double evaluate(const Eigen::Vector3d& x) const;
+  double evaluate(const Eigen::Vector3d& x) const {
+    const double px = x.x(), py = x.y(), pz = x.z();
+    const double v = a00 * px * px + a11 * py * py + a22 * pz * pz +
+                     2 * (a01 * px * py + a02 * px * pz + a12 * py * pz) +
+                     2 * (b0 * px + b1 * py + b2 * pz) + c;
+    return v < 0.0 ? 0.0 : v;
+  }
 
   Eigen::Matrix3d matrix() const;
   Eigen::Vector3d vector() const { return {b0, b1, b2}; }
@@ -51,6 +59,38 @@ struct Quadric {
   /// Complexity: O(1).
   Eigen::Vector3d minimizer(const Eigen::Vector3d& reference,
                             double relative_tolerance = 1e-7) const;
+
+ private:
+  // The pseudo-inverse for an ill-conditioned A, out of line: it is rare and heavy.
+  Eigen::Vector3d minimizer_singular(const Eigen::Vector3d& reference, const Eigen::Vector3d& r,
+                                     double relative_tolerance) const;
 };
+
+// Inline: simplification calls it for every edge it evaluates.
+inline Eigen::Vector3d Quadric::minimizer(const Eigen::Vector3d& reference,
+                                          double relative_tolerance) const {
+  // Solve A δ = r with r = −(A·ref + b) and return ref + δ: working relative to the
+  // reference keeps the answer near it where A is rank-deficient.
+  const double x = reference.x(), y = reference.y(), z = reference.z();
+  const Eigen::Vector3d r(-(a00 * x + a01 * y + a02 * z + b0), -(a01 * x + a11 * y + a12 * z + b1),
+                          -(a02 * x + a12 * y + a22 * z + b2));
+  const double trace = a00 + a11 + a22;
+  if (!(trace > 0) || !std::isfinite(trace)) return reference;
+  // Cofactors of the symmetric A; det ≤ λmin·trace², so det > tol·trace³ bounds the
+  // condition number and the closed form is safe.
+  const double c00 = a11 * a22 - a12 * a12;
+  const double c01 = a02 * a12 - a01 * a22;
+  const double c02 = a01 * a12 - a02 * a11;
+  const double det = a00 * c00 + a01 * c01 + a02 * c02;
+  if (!(det > relative_tolerance * 1e3 * trace * trace * trace))
+    return minimizer_singular(reference, r, relative_tolerance);
+  const double c11 = a00 * a22 - a02 * a02;
+  const double c12 = a01 * a02 - a00 * a12;
+  const double c22 = a00 * a11 - a01 * a01;
+  const double inv = 1.0 / det;
+  return {x + (c00 * r.x() + c01 * r.y() + c02 * r.z()) * inv,
+          y + (c01 * r.x() + c11 * r.y() + c12 * r.z()) * inv,
+          z + (c02 * r.x() + c12 * r.y() + c22 * r.z()) * inv};
+}
 
 }  // namespace geom
