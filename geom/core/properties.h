@@ -6,6 +6,7 @@
 
 #include <geom/core/errors.h>
 #include <geom/core/handles.h>
+#include <geom/core/huge_pages.h>
 
 #include <cstdint>
 #include <memory>
@@ -54,7 +55,7 @@ class PropertyArray final : public BasePropertyArray {
   PropertyArray(std::string name, T default_value)
       : BasePropertyArray(std::move(name)), default_(std::move(default_value)) {}
   void reserve(std::size_t n) override { data_.reserve(n); }
-  void resize(std::size_t n) override { data_.resize(n, default_); }
+  void resize(std::size_t n) override { resize_prefaulted(data_, n, default_); }
   void push_back() override { data_.push_back(default_); }
   void shrink_to_fit() override { data_.shrink_to_fit(); }
   void gather(std::span<const std::uint32_t> old_of_new) override {

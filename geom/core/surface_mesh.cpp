@@ -1,5 +1,7 @@
 #include <geom/core/surface_mesh.h>
 
+#include <geom/core/huge_pages.h>
+
 #include <algorithm>
 #include <string>
 
@@ -67,15 +69,17 @@ void SurfaceMesh::resize(std::size_t vertices, std::size_t edges, std::size_t fa
   if (vertices > Vertex::kInvalid || 2 * edges + 1 >= Halfedge::kInvalid ||
       faces > Face::kInvalid)
     throw Error("too many elements for 32-bit handles");
-  vconn_.resize(vertices);
-  vdeleted_.resize(vertices, 0);
+  // Builders (subdivision's last level) grow a mesh by hundreds of megabytes here; mapping
+  // the fresh pages in one call is cheaper than faulting them in one by one while filling.
+  detail::resize_prefaulted(vconn_, vertices);
+  detail::resize_prefaulted(vdeleted_, vertices, std::uint8_t{0});
   vprops_.resize(vertices);
-  hconn_.resize(2 * edges);
+  detail::resize_prefaulted(hconn_, 2 * edges);
   hprops_.resize(2 * edges);
-  edeleted_.resize(edges, 0);
+  detail::resize_prefaulted(edeleted_, edges, std::uint8_t{0});
   eprops_.resize(edges);
-  fconn_.resize(faces);
-  fdeleted_.resize(faces, 0);
+  detail::resize_prefaulted(fconn_, faces);
+  detail::resize_prefaulted(fdeleted_, faces, std::uint8_t{0});
   fprops_.resize(faces);
 }
 

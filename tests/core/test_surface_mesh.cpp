@@ -216,6 +216,34 @@ TEST(SurfaceMesh, ResizeGrowsOnlyAndKeepsExistingElements) {
   EXPECT_VALID(m);
 }
 
+// Growth by megabytes maps the new pages first (detail::resize_prefaulted); the elements
+// must come out exactly as a small resize makes them, and existing ones must survive.
+TEST(SurfaceMesh, LargeResizeFillsLikeASmallOne) {
+  SurfaceMesh m = tetrahedron();
+  auto weight = m.add_property<Vertex, double>("v:weight", 7.0);
+  weight[Vertex(2)] = 3.0;
+  constexpr std::uint32_t kN = 400000;  // > 4 MiB of halfedges and of positions
+  m.resize(kN, 2 * kN, kN);
+  EXPECT_EQ(m.n_vertices(), kN);
+  EXPECT_EQ(m.n_halfedges(), 4u * kN);
+  EXPECT_EQ(weight[Vertex(2)], 3.0);
+  EXPECT_EQ(m.to_vertex(Halfedge(0)), tetrahedron().to_vertex(Halfedge(0)));
+  for (std::uint32_t i : {4u, 12345u, kN - 1}) {
+    EXPECT_FALSE(m.halfedge(Vertex(i)).is_valid());
+    EXPECT_EQ(m.position(Vertex(i)), Point::Zero());
+    EXPECT_EQ(weight[Vertex(i)], 7.0);
+    EXPECT_FALSE(m.is_deleted(Vertex(i)));
+    EXPECT_FALSE(m.halfedge(Face(i)).is_valid());
+  }
+  for (std::uint32_t h : {12u, 777777u, 4 * kN - 1}) {
+    EXPECT_FALSE(m.to_vertex(Halfedge(h)).is_valid());
+    EXPECT_FALSE(m.next(Halfedge(h)).is_valid());
+    EXPECT_FALSE(m.prev(Halfedge(h)).is_valid());
+    EXPECT_FALSE(m.face(Halfedge(h)).is_valid());
+    EXPECT_FALSE(m.is_deleted(Halfedge(h)));
+  }
+}
+
 TEST(Properties, TypedNamedAddGetRemove) {
   SurfaceMesh m = tetrahedron();
   auto w = m.add_property<Vertex, double>("v:weight", 1.5);
