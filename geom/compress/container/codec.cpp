@@ -530,18 +530,23 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
   }
   std::vector<std::uint32_t> face_of_slot(nf);
   for (std::uint32_t j = 0; j < nf; ++j) face_of_slot[face_slot[j]] = j;
-  std::vector<Vertex> corners;
-  for (std::uint32_t s = 0; s < nf; ++s) {
-    const std::uint32_t j = face_of_slot[s];
-    const std::uint32_t b = polys.offset[j], k = polys.offset[j + 1] - b;
-    corners.clear();
-    for (std::uint32_t i = 0; i < k; ++i)
-      corners.push_back(Vertex(vertex_slot[polys.vertex[b + (i + rotation[j]) % k]]));
-    try {
-      mesh.add_face(corners);
-    } catch (const TopologyError& e) {
-      throw DecodeError(core.connectivity_offset,
-                        std::string("decoded faces do not form a valid mesh: ") + e.what());
+  if (!(h.flags & kFlagPolygons)) {
+    link_decoded_triangles(mesh, core.table, face_of_slot, rotation, vertex_slot,
+                           core.connectivity_offset);
+  } else {
+    std::vector<Vertex> corners;
+    for (std::uint32_t s = 0; s < nf; ++s) {
+      const std::uint32_t j = face_of_slot[s];
+      const std::uint32_t b = polys.offset[j], k = polys.offset[j + 1] - b;
+      corners.clear();
+      for (std::uint32_t i = 0; i < k; ++i)
+        corners.push_back(Vertex(vertex_slot[polys.vertex[b + (i + rotation[j]) % k]]));
+      try {
+        mesh.add_face(corners);
+      } catch (const TopologyError& e) {
+        throw DecodeError(core.connectivity_offset,
+                          std::string("decoded faces do not form a valid mesh: ") + e.what());
+      }
     }
   }
   if (h.flags & kFlagExtension)

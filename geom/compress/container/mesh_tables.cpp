@@ -163,4 +163,130 @@ Polygons reassemble(const CornerTable& t, std::uint64_t where) {
   return out;
 }
 
+void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
+                    std::span<const std::uint32_t> twin, std::uint64_t where) {
+  const std::size_t nv = mesh.vertices_size(), nc = vertex.size(), nf = nc / 3;
+  auto fail = [&](const std::string& what) {
+    throw DecodeError(where, "decoded faces do not form a valid mesh: " + what);
+  };
+  // Corner i is the halfedge vertex[i] → vertex[next(i)].
+  auto to = [&](std::uint32_t i) { return vertex[next_corner(i)]; };
+  std::vector<std::uint32_t> degree(nv, 0), stamp(nv, kNone), any_corner(nv);
+  std::size_t n_edges = 0;
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    const std::uint32_t a = vertex[i], t = twin[i];
+    if (a == to(i)) fail("face " + std::to_string(i / 3) + " repeats a vertex");
+    if (t != kNone && (t >= nc || twin[t] != i || vertex[t] != to(i)))
+      fail("corner " + std::to_string(i) + " has an inconsistent opposite");
+    ++degree[a];
+    any_corner[a] = i;
+    n_edges += t == kNone || t > i;
+  }
+  mesh.resize(nv, n_edges, nf);
+  // Corner i's halfedge; a corner without a twin has a boundary halfedge as its opposite.
+  std::vector<Halfedge> he(nc);
+  for (std::uint32_t i = 0, e = 0; i < nc; ++i) {
+    if (twin[i] != kNone && twin[i] < i) continue;
+    he[i] = Halfedge(2 * e);
+    if (twin[i] != kNone) he[twin[i]] = Halfedge(2 * e + 1);
+    ++e;
+  }
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    mesh.set_vertex(he[i], Vertex(to(i)));
+    mesh.set_face(he[i], Face(i / 3));
+    mesh.set_next(he[i], he[next_corner(i)]);
+    if (i % 3 == 2) mesh.set_halfedge(Face(i / 3), he[i]);  // ends at the first corner
+  }
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (degree[v] > 0) mesh.set_halfedge(Vertex(v), he[any_corner[v]]);
+  // Around a vertex a, its corners form fans: from corner x (a → b) the next one is
+  // twin(prev(x)). A boundary fan runs from a corner i without a twin to a corner p
+  // (y → a) without one. The boundary halfedges link the fans of a vertex in a cycle (b → a
+  // of each fan is followed by a → y of the fan found before it, the first fan's by the
+  // last one's), so rotating around a vertex visits all of them.
+  std::vector<std::uint32_t> fan_corners(nv, 0);
+  std::vector<Halfedge> first_in(nv), last_out(nv);
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    if (twin[i] != kNone) continue;
+    const std::uint32_t a = vertex[i];
+    std::uint32_t x = i;
+    for (std::uint32_t size = 1; twin[prev_corner(x)] != kNone; ++size) {
+      if (size >= degree[a]) fail("vertex " + std::to_string(a) + " has tangled fans");
+      x = twin[prev_corner(x)];
+    }
+    const Halfedge in = SurfaceMesh::opposite(he[i]),
+                   out = SurfaceMesh::opposite(he[prev_corner(x)]);
+    mesh.set_vertex(in, Vertex(a));
+    if (!first_in[a].is_valid())
+      first_in[a] = in;
+    else
+      mesh.set_next(in, last_out[a]);
+    last_out[a] = out;
+  }
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (first_in[v].is_valid()) {
+      mesh.set_next(first_in[v], last_out[v]);
+      mesh.set_halfedge(Vertex(v), last_out[v]);
+    }
+  // Rotating around each vertex must meet every corner there once (else some fan is a
+  // second, closed one: a complex vertex) and every neighbour once (else two edges join
+  // the same vertices). Interior vertices rotate on the corner arrays; the few boundary
+  // ones on the mesh, whose rotation hops between their fans.
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (degree[v] == 0) continue;
+    std::uint32_t corners = 0;
+    auto meet = [&](std::uint32_t to_vertex) {
+      if (stamp[to_vertex] == v)
+        fail("vertices " + std::to_string(v) + " and " + std::to_string(to_vertex) +
+             " share two edges");
+      stamp[to_vertex] = v;
+    };
+    if (!first_in[v].is_valid()) {
+      const std::uint32_t start = any_corner[v];
+      std::uint32_t x = start;
+      do {
+        meet(to(x));
+        ++corners;
+        x = twin[prev_corner(x)];
+      } while (x != kNone && x != start && corners < degree[v]);
+      if (x != start || corners != degree[v])
+        fail("vertex " + std::to_string(v) + " is shared by faces that do not form one fan");
+      continue;
+    }
+    const Halfedge start = mesh.halfedge(Vertex(v));
+    Halfedge h = start;
+    std::uint32_t steps = 0;
+    do {
+      meet(mesh.to_vertex(h).idx());
+      corners += !mesh.is_boundary(h);
+      h = mesh.ccw_rotated(h);
+    } while (h != start && ++steps <= 2 * degree[v]);
+    if (corners != degree[v] || h != start)
+      fail("vertex " + std::to_string(v) + " is shared by faces that do not form one fan");
+  }
+}
+
+void link_decoded_triangles(SurfaceMesh& mesh, const CornerTable& t,
+                            std::span<const std::uint32_t> face_of_slot,
+                            std::span<const std::uint32_t> rotation,
+                            std::span<const std::uint32_t> vertex_slot, std::uint64_t where) {
+  const std::size_t nc = 3 * face_of_slot.size();
+  std::vector<std::uint32_t> vertex(nc), out_corner(nc), twin(nc, kNone);
+  for (std::uint32_t s = 0; s < face_of_slot.size(); ++s) {
+    const std::uint32_t j = face_of_slot[s];
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t c = 3 * j + (i + rotation[j]) % 3;
+      vertex[3 * s + i] = vertex_slot[t.vertex[c]];
+      out_corner[c] = 3 * s + i;
+    }
+  }
+  // Table corner c is the halfedge vertex(c) → vertex(next(c)): the edge opposite prev(c),
+  // whose reverse starts at next(opposite(prev(c))).
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const std::uint32_t o = t.opposite[prev_corner(c)];
+    if (o != kNone) twin[out_corner[c]] = out_corner[next_corner(o)];
+  }
+  link_triangles(mesh, vertex, twin, where);
+}
+
 }  // namespace geom::codec::detail
