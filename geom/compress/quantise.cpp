@@ -30,8 +30,10 @@ std::array<std::uint32_t, 3> Quantiser::quantise(const Point& p) const {
   const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
   std::array<std::uint32_t, 3> q;
   for (int a = 0; a < 3; ++a) {
-    const double t = std::clamp(std::round((p[a] - origin[a]) / step), 0.0, top);
-    q[a] = static_cast<std::uint32_t>(t);
+    const double t = std::round((p[a] - origin[a]) / step);
+    // NaN (never expected from a grid built here) maps to cell 0 rather than to undefined
+    // behaviour in the conversion.
+    q[a] = t >= 0 ? static_cast<std::uint32_t>(std::min(t, top)) : 0;
   }
   return q;
 }
@@ -46,6 +48,12 @@ Quantiser quantiser_for_bits(std::span<const Point> points, unsigned bits) {
   q.bits = bits;
   const double steps = static_cast<double>((std::uint64_t{1} << bits) - 1);
   q.step = extent > 0 ? extent / steps : 1.0;
+  // Extremes of double: an extent of a few subnormals divides to zero (every cell would be
+  // 0/0), and coordinates near ±1e308 can span more than a double holds, so no grid over
+  // them could be decoded.
+  if (!std::isfinite(extent))
+    throw InvalidArgument("quantise: the coordinates span more than a double can hold");
+  if (!(q.step > 0)) q.step = extent > 0 ? extent : 1.0;
   return q;
 }
 

@@ -138,6 +138,32 @@ TEST(Compress, HugeAndTinyCoordinates) {
   }
 }
 
+// The ends of double: an extent of a few subnormals (the fuzzer found it through a
+// re-encoded decoded stream), coordinates near ±1e308, and a span no double holds.
+TEST(Compress, SubnormalAndOverflowingExtents) {
+  for (double scale : {4.9e-324 * 3, 8e307}) {
+    Arrays a;
+    a.points = {{0, 0, 0}, {scale, 0, 0}, {0, -scale, 0}, {-scale, scale, scale}};
+    a.faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+    const SurfaceMesh m = a.build();
+    const auto c = compress(m, {.bits = 11});
+    ASSERT_GT(c.stats.step, 0.0);
+    const SurfaceMesh d = decompress(c.bytes).mesh;
+    ASSERT_EQ(d.n_vertices(), 4u);
+    for (Vertex v : m.vertices()) {  // each input point has a decoded point within step / 2
+      double nearest = INFINITY;
+      for (Vertex w : d.vertices()) {
+        ASSERT_TRUE(d.position(w).allFinite()) << scale;
+        nearest = std::min(nearest, (d.position(w) - m.position(v)).cwiseAbs().maxCoeff());
+      }
+      EXPECT_LE(nearest, 0.5 * c.stats.step * (1 + 1e-9)) << scale;
+    }
+  }
+  Arrays wide = test::torus(6, 4);
+  for (auto& p : wide.points) p *= 3e307;  // spans ±1.2e308: more than a double holds
+  EXPECT_THROW(compress(wide.build(), {.bits = 11}), InvalidArgument);
+}
+
 TEST(Compress, BitsRangeEnds) {
   const SurfaceMesh m = test::torus(16, 12).build();
   for (unsigned bits : {1u, 2u, 8u, 20u, 30u}) expect_round_trip(m, {.bits = bits, .level = 9}, false);
