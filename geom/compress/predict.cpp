@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <string>
 
 namespace geom::codec::detail {
@@ -17,12 +18,14 @@ constexpr unsigned kLengthClasses = 12;
 /// Residual models. A residual's bit length is coded adaptively in a context of its axis,
 /// how many parallelograms backed the prediction (more ⇒ smaller residuals) and the length
 /// of the previous residual (errors are locally correlated); the first bit below the
-/// leading one is modelled too, the rest are raw.
+/// leading one is modelled too, the rest are raw. Length models have 33 symbols (0–32), or
+/// (predictor 4) only the bits + 2 lengths a grid residual can have: every symbol keeps a
+/// minimum frequency, so 20 unused ones cost about 0.03 bits per residual.
 struct ResidualModels {
-  std::vector<AdaptiveModel> length =
-      std::vector<AdaptiveModel>(3 * 3 * kLengthClasses, AdaptiveModel(33));
+  std::vector<AdaptiveModel> length;
   std::vector<AdaptiveModel> top;
-  ResidualModels() {
+  explicit ResidualModels(unsigned n_lengths = 33)
+      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)) {
     top.reserve(3 * 33);
     for (unsigned i = 0; i < 3 * 33; ++i) top.emplace_back(i % 33 <= 2 ? 2 : 4);
   }
@@ -186,9 +189,9 @@ namespace {
 /// Decodes a vertex's three residuals onto its prediction (shared by both decoders).
 class ResidualReader {
  public:
-  ResidualReader(unsigned bits, RansDecoder& rans, BitReader& raw)
-      : rans_(rans), raw_(raw), top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)),
-        bits_(bits) {}
+  ResidualReader(unsigned bits, RansDecoder& rans, BitReader& raw, bool compact = false)
+      : m_(compact ? bits + 2 : 33), rans_(rans), raw_(raw),
+        top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)), bits_(bits) {}
   std::uint32_t top() const { return top_; }
   /// Writes the decoded grid point to out; returns the largest residual length.
   unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
@@ -239,7 +242,63 @@ inline std::uint32_t rounded_mean(std::int64_t sum, unsigned count, std::uint32_
   return static_cast<std::uint32_t>(std::clamp<std::int64_t>(m, 0, top));
 }
 
+/// Encoder-side measurement for encode_positions_degree's `suggest`: the summed residual
+/// bit lengths each blend weight would have given, per parallelogram class (one, several).
+struct BlendProbe {
+  std::uint64_t cost[2][16] = {};
+  void add(const QPoint& truth, const std::int64_t* sum, const std::int64_t* ends, unsigned count) {
+    const unsigned cls = count > 1 ? 1 : 0;
+    for (int x = 0; x < 3; ++x) {
+      // Doubles are close enough to pick a weight (the coding pass is exact); the residual
+      // is measured from truth + 0.5 so truncation towards −∞ rounds.
+      const double mp = double(sum[x]) / count, step = (double(ends[x]) / (2 * count) - mp) / 16;
+      const double t = double(truth[x]) + 0.5 - mp;
+      for (unsigned k = 0; k < 16; ++k) {
+        const auto r = static_cast<std::int64_t>(std::floor(t - k * step));
+        const auto z = static_cast<std::uint64_t>(r >= 0 ? 2 * r : -2 * r - 1);
+        cost[cls][k] += static_cast<unsigned>(std::bit_width(z));
+      }
+    }
+  }
+  /// The weights with the smallest total; zero unless they shorten the residuals by 1/256.
+  Blend best() const {
+    std::uint8_t k[2] = {0, 0};
+    std::uint64_t base = 0, saved = 0;
+    for (int cls = 0; cls < 2; ++cls) {
+      for (std::uint8_t i = 1; i < 16; ++i)
+        if (cost[cls][i] < cost[cls][k[cls]]) k[cls] = i;
+      base += cost[cls][0];
+      saved += cost[cls][0] - cost[cls][k[cls]];
+    }
+    if (saved * 64 < base / 4) return {};
+    return {k[0], k[1]};
+  }
+};
+
+/// floor(a / b) for b > 0 (C++ division truncates towards zero).
+template <class T>
+inline T floor_div(T a, T b) {
+  const T d = a / b;
+  return (a % b != 0 && a < 0) ? d - 1 : d;
+}
+
 }  // namespace
+
+std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                           std::uint32_t top) {
+  std::int64_t m;
+  if (count < (1u << 24)) {
+    // |s| < count·2^31 and 0 ≤ e < count·2^31, so 2·num + den stays below 2^62.
+    const std::int64_t num = 2 * std::int64_t(16 - k) * s + std::int64_t(k) * e;
+    const std::int64_t den = 32 * std::int64_t{count};
+    m = floor_div(2 * num + den, 2 * den);
+  } else {
+    __extension__ typedef __int128 Wide;  // a vertex on millions of triangles
+    const Wide num = 2 * Wide(16 - k) * s + Wide(k) * e, den = Wide(32) * count;
+    m = static_cast<std::int64_t>(floor_div<Wide>(2 * num + den, 2 * den));
+  }
+  return static_cast<std::uint32_t>(std::clamp<std::int64_t>(m, 0, top));
+}
 
 void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
                       RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q) {
@@ -261,10 +320,12 @@ namespace {
 /// `out` receives the vertex's true grid point.
 class ResidualWriter {
  public:
-  ResidualWriter(std::span<const QPoint> q, unsigned bits, RansEncoder& rans, BitWriter& raw)
-      : q_(q), rans_(rans), raw_(raw),
+  ResidualWriter(std::span<const QPoint> q, unsigned bits, RansEncoder& rans, BitWriter& raw,
+                 bool compact = false)
+      : m_(compact ? bits + 2 : 33), q_(q), rans_(rans), raw_(raw),
         top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)) {}
   std::uint32_t top() const { return top_; }
+  const QPoint& truth(std::uint32_t v) const { return q_[v]; }
   unsigned code(std::uint32_t v, const QPoint& p, unsigned count, unsigned activity,
                 std::uint32_t* out) {
     unsigned longest = 0;
@@ -308,7 +369,7 @@ inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsign
 /// on entry for the writer) receives the grid points in the new order.
 template <class Coder>
 std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& reader,
-                                       std::vector<QPoint>& q) {
+                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe) {
   constexpr unsigned kTop = 2;
   const std::uint32_t nc = t.n_vertices;
   // Everything the traversal asks about a vertex (table numbering) in one record: its grid
@@ -375,7 +436,7 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
     const Wedge* w_begin = wedge.data() + slot[v].first;
     const Wedge* w_end = wedge.data() + slot[v + 1].first;
-    std::int64_t sum[3] = {0, 0, 0};
+    std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
     unsigned count = 0, act_sum = 0, act_n = 0;
     std::uint32_t neighbour = kNone, neighbour_order = 0;
     for (const Wedge* we = w_begin; we != w_end; ++we) {
@@ -397,14 +458,24 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
       if (!da || !db || we->c == kNone) continue;
       const Slot& sc = slot[we->c];
       if (sc.order == kNone) continue;
-      for (int x = 0; x < 3; ++x)
-        sum[x] += std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]} - std::int64_t{sc.q[x]};
+      for (int x = 0; x < 3; ++x) {
+        const std::int64_t ab = std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]};
+        sum[x] += ab - std::int64_t{sc.q[x]};
+        ends[x] += ab;  // predictor 4's centroid: the parallelograms' shared edges
+      }
       ++count;
     }
     const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
     QPoint p{0, 0, 0};
     if (count > 0) {
-      for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[x], count, reader.top());
+      const unsigned k = count == 1 ? blend.one : blend.many;
+      if (k == 0) {
+        for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[x], count, reader.top());
+      } else {
+        for (int x = 0; x < 3; ++x) p[x] = blended_mean(sum[x], ends[x], count, k, reader.top());
+      }
+      if constexpr (requires { reader.truth(v); })
+        if (probe && i % 4 == 0) probe->add(reader.truth(v), sum, ends, count);  // a sample will do
     } else {
       if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
       if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
@@ -439,16 +510,24 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
 
 std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
                                                    RansDecoder& rans, BitReader& raw,
-                                                   std::vector<QPoint>& q) {
-  ResidualReader reader(bits, rans, raw);
-  return degree_pass(table, n, reader, q);
+                                                   std::vector<QPoint>& q, Predictor predictor,
+                                                   Blend blend) {
+  ResidualReader reader(bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
+  return degree_pass(table, n, reader, q, blend, nullptr);
 }
 
 std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
-                                                   unsigned bits, RansEncoder& rans, BitWriter& raw) {
-  ResidualWriter writer(q, bits, rans, raw);
+                                                   unsigned bits, RansEncoder& rans, BitWriter& raw,
+                                                   Predictor predictor, Blend blend,
+                                                   Blend* suggest) {
+  ResidualWriter writer(q, bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
   std::vector<QPoint> reordered;
-  return degree_pass(table, q.size(), writer, reordered);
+  BlendProbe probe;
+  const bool measure = suggest && !blend.any();
+  std::vector<std::uint32_t> seq =
+      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr);
+  if (suggest) *suggest = measure ? probe.best() : Blend{};
+  return seq;
 }
 
 }  // namespace geom::codec::detail

@@ -25,6 +25,20 @@ enum class Predictor : std::uint8_t {
   /// Multi-parallelogram with vertices renumbered by degree_order(): each vertex is coded
   /// when the most triangles around it are complete, so more parallelograms are averaged.
   kMultiParallelogramDegree = 3,
+  /// kMultiParallelogramDegree with the prediction pulled towards the centroid of the
+  /// parallelograms' shared edges by per-stream weights (Blend; zero weights: no pull): on
+  /// an irregular or curved scan a parallelogram overshoots across uneven triangles, and
+  /// the edge midpoints undershoot. Residual lengths use a bits + 2 symbol alphabet.
+  kMultiParallelogramBlend = 4,
+};
+
+/// The pull of kMultiParallelogramBlend, in sixteenths, for vertices with one parallelogram
+/// and with several. Stored as one byte: one | many << 4.
+struct Blend {
+  std::uint8_t one = 0, many = 0;
+  bool any() const { return one != 0 || many != 0; }
+  std::uint8_t byte() const { return static_cast<std::uint8_t>(one | (many << 4)); }
+  static Blend from_byte(std::uint8_t b) { return {static_cast<std::uint8_t>(b & 15), static_cast<std::uint8_t>(b >> 4)}; }
 };
 
 /// Renumber the table's vertices in "most complete triangles first" order (a greedy
@@ -54,14 +68,29 @@ void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Pr
 /// result as degree_order(table) followed by decode_positions (table renumbered, q in the new
 /// order); returns the old vertex of each new vertex.
 /// Throws: DecodeError as decode_positions. Complexity: O(V + T).
-std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
-                                                   RansDecoder& rans, BitReader& raw,
-                                                   std::vector<QPoint>& q);
+/// kMultiParallelogramBlend's prediction on one axis from `count` parallelograms a + b − c
+/// summing to s, whose edge ends a + b sum to e: (16 − k)/16 of their mean s/count plus k/16
+/// of the ends' centroid e/(2·count), i.e. floor((2N + D) / 2D) with N = 2(16 − k)·s + k·e
+/// and D = 32·count, clamped to [0, top]. Exact. Pre: count > 0, k < 16.
+std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                           std::uint32_t top);
+
+/// predictor is kMultiParallelogramDegree or kMultiParallelogramBlend (whose predictions
+/// with parallelograms are pulled towards their edges' centroid by `blend`; FORMAT.md).
+std::vector<std::uint32_t> decode_positions_degree(
+    CornerTable& table, std::size_t n, unsigned bits, RansDecoder& rans, BitReader& raw,
+    std::vector<QPoint>& q, Predictor predictor = Predictor::kMultiParallelogramDegree,
+    Blend blend = {});
 
 /// The encoder's side of decode_positions_degree: q in the table's numbering (isolated
 /// vertices last); renumbers the table and returns the old vertex of each new vertex (the
 /// degree_order result), coding exactly what degree_order + encode_positions would.
-std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
-                                                   unsigned bits, RansEncoder& rans, BitWriter& raw);
+/// With `suggest` (and zero blend weights), also measures every weight on the way and
+/// stores the ones that would have given the shortest residuals (zero: pulling would not
+/// help), so a second pass can code with them.
+std::vector<std::uint32_t> encode_positions_degree(
+    CornerTable& table, std::span<const QPoint> q, unsigned bits, RansEncoder& rans,
+    BitWriter& raw, Predictor predictor = Predictor::kMultiParallelogramDegree, Blend blend = {},
+    Blend* suggest = nullptr);
 
 }  // namespace geom::codec::detail

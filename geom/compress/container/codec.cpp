@@ -4,6 +4,7 @@
 #include <geom/compress/container/extension.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/connectivity.h>
+#include <geom/compress/point_chain.h>
 #include <geom/compress/predict.h>
 #include <geom/compress/quantise.h>
 #include <geom/compress/rans.h>
@@ -46,6 +47,7 @@ struct Streams {
 struct Candidate {
   Traversal traversal;
   Predictor predictor;
+  Blend blend;  // with kMultiParallelogramBlend
   Streams connectivity, geometry;
   CornerTable table;
   TraversalOrder order;
@@ -57,11 +59,12 @@ std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
   std::vector<std::pair<Traversal, Predictor>> c = {{Traversal::kRightFirst, Predictor::kDelta}};
   if (level >= 1) c.push_back({Traversal::kRightFirst, Predictor::kParallelogram});
   if (level >= 3) c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogram});
-  if (level >= 5) c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogramDegree});
+  // Predictor 3 is only decoded now: 4 codes the same with zero weights, in fewer bits.
+  if (level >= 5) c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogramBlend});
   if (level >= 6) {
     c.push_back({Traversal::kLeftFirst, Predictor::kParallelogram});
     c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogram});
-    c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogramDegree});
+    c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogramBlend});
   }
   if (level >= 9) c.push_back({Traversal::kLeftFirst, Predictor::kDelta});
   return c;
@@ -82,6 +85,7 @@ void write_section(ByteWriter& w, const std::vector<std::uint8_t>& s) {
 struct Header {
   std::uint8_t flags = 0;
   Predictor predictor = Predictor::kDelta;
+  Blend blend;  // with kMultiParallelogramBlend
   Quantiser quantiser;
   unsigned normal_bits = 0;
   Quantiser uv_quantiser;
@@ -97,6 +101,13 @@ struct Core {
   std::uint64_t order_offset = 0, connectivity_offset = 0;
   std::size_t extension_at = 0;  // the extension block runs from here to the end
 };
+
+/// Every vertex codes three residual lengths, each costing at least −log2(1 − 32(n − 1)/2^15)
+/// > (n − 1)/710 bits with n length symbols: at most 2048/(n − 1) vertices per byte.
+std::uint64_t max_vertices_per_byte(const Header& h) {
+  if (h.predictor != Predictor::kMultiParallelogramBlend) return kMaxVerticesPerByte;
+  return 2048 / (h.quantiser.bits + 1);  // n = bits + 2 length symbols
+}
 
 void read_attribute_header(ByteReader& r, Header& h) {
   if (h.flags & kFlagNormals) {
@@ -141,7 +152,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.flags & ~(version == kVersion ? kKnownFlags & 7 : kKnownFlags))
     throw DecodeError(r.offset() - 1, "unknown flags for version " + std::to_string(version));
   const std::uint8_t pred = r.u8();
-  if (pred > 3) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
+  if (pred > 4) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
   h.predictor = static_cast<Predictor>(pred);
   h.quantiser.bits = r.u8();
   if (h.quantiser.bits < 1 || h.quantiser.bits > 30)
@@ -155,6 +166,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (!(h.quantiser.origin.array() + h.quantiser.step * top).allFinite())
     throw DecodeError(r.offset() - 8, "grid extends beyond the double range");
   read_attribute_header(r, h);
+  if (h.predictor == Predictor::kMultiParallelogramBlend) h.blend = Blend::from_byte(r.u8());
   const std::size_t counts_at = r.offset();
   h.n_faces = r.varint();
   h.n_triangles = r.varint();
@@ -182,7 +194,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (r.remaining() != 0) throw DecodeError(r.offset(), "trailing bytes after the last section");
   if (h.n_triangles > kMaxTrianglesPerByte * conn_rans.size() + 16 || h.n_triangles > (1u << 30) ||
       h.n_faces > h.n_triangles || (h.n_faces == 0) != (h.n_triangles == 0) ||
-      h.n_vertices > kMaxVerticesPerByte * geom_rans.size() + 64 || h.n_vertices > (1u << 30) ||
+      h.n_vertices > max_vertices_per_byte(h) * geom_rans.size() + 64 || h.n_vertices > (1u << 30) ||
       h.n_isolated > h.n_vertices ||
       (!(h.flags & kFlagPolygons) && h.n_faces != h.n_triangles))
     throw DecodeError(counts_at, "element counts impossible for the section sizes");
@@ -209,9 +221,10 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.n_vertices > 0) {
     RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
-    if (h.predictor == Predictor::kMultiParallelogramDegree)
+    if (h.predictor == Predictor::kMultiParallelogramDegree ||
+        h.predictor == Predictor::kMultiParallelogramBlend)
       decode_positions_degree(core.table, static_cast<std::size_t>(h.n_vertices),
-                              h.quantiser.bits, rd, br, core.q);
+                              h.quantiser.bits, rd, br, core.q, h.predictor, h.blend);
     else
       decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
                        h.predictor, rd, br, core.q);
@@ -263,6 +276,22 @@ Attributes gather_attributes(const SurfaceMesh& mesh, const CompressOptions& opt
   return a;
 }
 
+/// The vertices no triangle uses, in the order they are coded (after the connected ones):
+/// each is predicted by the one before it, so a chain through near neighbours keeps those
+/// deltas short (scanned meshes such as the Stanford bunny carry thousands).
+std::vector<std::uint32_t> isolated_order(const CornerTable& table, std::span<const QPoint> q) {
+  std::vector<std::uint8_t> used(q.size(), 0);
+  for (std::uint32_t v : table.vertex) used[v] = 1;
+  std::vector<std::uint32_t> isolated;
+  for (std::uint32_t v = 0; v < q.size(); ++v)
+    if (!used[v]) isolated.push_back(v);
+  std::vector<QPoint> points(isolated.size());
+  for (std::size_t i = 0; i < isolated.size(); ++i) points[i] = q[isolated[i]];
+  std::vector<std::uint32_t> chain = point_chain(points);
+  for (std::uint32_t& i : chain) i = isolated[i];
+  return chain;
+}
+
 void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where, const char* what) {
   std::vector<std::uint8_t> seen(p.size(), 0);
   for (std::uint32_t i : p) {
@@ -288,6 +317,9 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   std::vector<QPoint> q_in(nv);
   for (std::size_t i = 0; i < nv; ++i) q_in[i] = quant.quantise(flat.positions[i]);
 
+  const std::vector<std::uint32_t> isolated = isolated_order(flat.table, q_in);
+  Blend blend;  // predictor 4's weights, measured on the first traversal
+  bool blend_measured = false;
   Candidate best;
   bool have_best = false;
   std::vector<QPoint> qd(nv);
@@ -306,19 +338,19 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
       c.connectivity.raw = bw.finish();
     }
     c.vertex_order = c.order.vertex_origin;
-    std::vector<std::uint8_t> used(nv, 0);
-    for (std::uint32_t v : c.vertex_order) used[v] = 1;
-    for (std::uint32_t v = 0; v < nv; ++v)
-      if (!used[v]) c.vertex_order.push_back(v);
-    for (Predictor p : preds) {
+    c.vertex_order.insert(c.vertex_order.end(), isolated.begin(), isolated.end());
+    // Codes the positions with predictor p on this traversal and keeps the result if it is
+    // the smallest so far.
+    auto try_predictor = [&](Predictor p, Blend weights, Blend* suggest) {
       CornerTable table = c.table;
       std::vector<std::uint32_t> vertex_order = c.vertex_order;
       for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[vertex_order[i]];
       RansEncoder re;
       BitWriter bw;
-      if (p == Predictor::kMultiParallelogramDegree) {
+      if (p == Predictor::kMultiParallelogramDegree || p == Predictor::kMultiParallelogramBlend) {
         // One fused pass renumbers the table and codes (qd is in the table's numbering).
-        const std::vector<std::uint32_t> seq = encode_positions_degree(table, qd, quant.bits, re, bw);
+        const std::vector<std::uint32_t> seq =
+            encode_positions_degree(table, qd, quant.bits, re, bw, p, weights, suggest);
         for (std::size_t i = 0; i < seq.size(); ++i) vertex_order[i] = c.vertex_order[seq[i]];
       } else {
         encode_positions(table, qd, quant.bits, p, re, bw);
@@ -331,6 +363,7 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
         Candidate keep;
         keep.traversal = trav;
         keep.predictor = p;
+        keep.blend = weights;
         keep.connectivity = c.connectivity;
         keep.geometry = std::move(g);
         keep.table = std::move(table);
@@ -338,6 +371,19 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
         keep.vertex_order = std::move(vertex_order);
         best = std::move(keep);
         have_best = true;
+      }
+    };
+    for (Predictor p : preds) {
+      if (p != Predictor::kMultiParallelogramBlend) {
+        try_predictor(p, {}, nullptr);
+      } else if (!blend_measured) {
+        // The first degree pass measures whether pulling predictions towards the parallelograms'
+        // edge centroid would shorten the residuals (irregular, curved scans); if so, try it.
+        try_predictor(p, {}, &blend);
+        blend_measured = true;
+        if (blend.any()) try_predictor(p, blend, nullptr);
+      } else {
+        try_predictor(p, blend, nullptr);  // the weights suit the mesh, not the traversal
       }
     }
   }
@@ -412,6 +458,7 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   w.f64(quant.step);
   write_attribute_header(w, attributes.normals.empty() ? 0 : options.normal_bits,
                          attributes.uvs.empty() ? nullptr : &attributes.uv_grid);
+  if (best.predictor == Predictor::kMultiParallelogramBlend) w.u8(best.blend.byte());
   w.varint(flat.n_faces);
   w.varint(flat.table.n_triangles());
   w.varint(nv);

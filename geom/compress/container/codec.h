@@ -27,7 +27,8 @@ struct CompressOptions {
   double precision = 0.0;
   /// 0–9. Each level tries a superset of the previous level's configurations and keeps the
   /// smallest stream, so a higher level never gives a larger stream: 0 delta prediction;
-  /// 1–2 + parallelogram; 3–4 + multi-parallelogram; 5 + multi-parallelogram in degree order;
+  /// 1–2 + parallelogram; 3–4 + multi-parallelogram; 5 + multi-parallelogram in degree order
+  /// (pulled towards the parallelograms' edge centroid when that measures shorter);
   /// 6–8 + the left-first traversal (parallelogram, multi, degree); 9 + everything.
   int level = 7;
   /// Keep the input's vertex order, face order and each face's first corner exactly (costs
@@ -69,6 +70,7 @@ struct CompressStats {
   double step = 0.0;        ///< grid step
   double max_error = 0.0;   ///< bound on each coordinate's error: step / 2
   /// 0 delta, 1 parallelogram, 2 multi-parallelogram, 3 multi-parallelogram in degree order
+  /// (decoded, no longer written), 4 the same with the centroid blend (FORMAT.md)
   int predictor = 0;
   int traversal = 0;
   std::vector<AttributeStats> attributes;  ///< coded in the extension block

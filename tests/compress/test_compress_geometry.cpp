@@ -1,0 +1,240 @@
+// Position coding details the round-trip tests do not pin: isolated vertices chained through
+// near neighbours (cheap, within the bound, in order when asked), and predictor 4's pull
+// towards the neighbours' centroid (exact arithmetic, chosen where it pays, round trips).
+
+#include "compress/meshes.h"
+
+#include <geom/compress/container/codec.h>
+#include <geom/compress/container/mesh_tables.h>
+#include <geom/compress/point_chain.h>
+#include <geom/compress/predict.h>
+#include <geom/compress/quantise.h>
+#include <geom/core/validate.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace geom::codec::detail {
+namespace {
+
+std::vector<QPoint> shuffled_line(unsigned n, unsigned seed) {
+  std::vector<QPoint> q;
+  for (std::uint32_t i = 0; i < n; ++i) q.push_back({5 * i, 7, 3 * i});
+  std::shuffle(q.begin(), q.end(), std::mt19937(seed));
+  return q;
+}
+
+TEST(PointChain, WalksALineGivenInRandomOrder) {
+  const std::vector<QPoint> q = shuffled_line(300, 3);
+  const std::vector<std::uint32_t> chain = point_chain(q);
+  ASSERT_EQ(chain.size(), q.size());
+  for (std::uint32_t i = 0; i < chain.size(); ++i) EXPECT_EQ(q[chain[i]][0], 5 * i) << i;
+}
+
+TEST(PointChain, PermutesEmptyCoincidentAndHugeInput) {
+  EXPECT_TRUE(point_chain({}).empty());
+  EXPECT_EQ(point_chain(std::vector<QPoint>{{1, 2, 3}}), std::vector<std::uint32_t>{0});
+  std::mt19937 rng(5);
+  std::vector<QPoint> q(500, QPoint{9, 9, 9});
+  for (std::size_t i = 0; i < q.size(); i += 3) q[i] = {std::uint32_t(rng() % (1u << 30)), std::uint32_t(rng() % (1u << 30)), (1u << 30) - 1};
+  std::vector<std::uint32_t> chain = point_chain(q);
+  std::sort(chain.begin(), chain.end());
+  for (std::uint32_t i = 0; i < chain.size(); ++i) ASSERT_EQ(chain[i], i);
+}
+
+/// The definition in FORMAT.md, in 128-bit arithmetic throughout.
+std::uint32_t blended_reference(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                                std::uint32_t top) {
+  __extension__ typedef __int128 Wide;
+  const Wide num = 2 * Wide(16 - k) * s + Wide(k) * e, den = Wide(32) * count;
+  const Wide a = 2 * num + den, b = 2 * den;
+  Wide m = a / b;
+  if (a % b != 0 && a < 0) --m;
+  return static_cast<std::uint32_t>(std::clamp<Wide>(m, 0, top));
+}
+
+TEST(BlendedMean, MatchesTheDefinitionOnBothArithmeticPaths) {
+  const std::uint32_t top = (1u << 30) - 1;
+  EXPECT_EQ(blended_mean(2 * 7, 0, 2, 0, top), 7u);   // k = 0: the parallelograms' mean
+  EXPECT_EQ(blended_mean(10, 2 * 40, 1, 8, top), 25u);  // halfway to the edge midpoint 40
+  EXPECT_EQ(blended_mean(-9, 0, 1, 1, top), 0u);        // clamped below
+  EXPECT_EQ(blended_mean(3, 4, 1, 15, top), 2u);        // 3·1/16 + 2·15/16 = 2.06
+  std::mt19937_64 rng(17);
+  for (int trial = 0; trial < 20000; ++trial) {
+    // Counts on both sides of the 64-bit path's limit (2^24 parallelograms).
+    const unsigned count = trial % 2 ? 1 + static_cast<unsigned>(rng() % 8)
+                                     : (1u << 24) - 4 + static_cast<unsigned>(rng() % 8);
+    const std::int64_t per = trial % 5 ? std::int64_t(top) : 2048;
+    // Sums of values in range: parallelograms in (−2^30, 2^31), edge ends in [0, 2^31).
+    const std::int64_t s = (static_cast<std::int64_t>(rng() % (3 * per)) - per) * count;
+    const std::int64_t e = static_cast<std::int64_t>(rng() % (2 * per)) * count;
+    const unsigned k = static_cast<unsigned>(rng() % 16);
+    ASSERT_EQ(blended_mean(s, e, count, k, top), blended_reference(s, e, count, k, top))
+        << s << ' ' << e << ' ' << count << ' ' << k;
+  }
+}
+
+/// A torus sampled irregularly (each grid vertex jittered along the surface), as a scan
+/// is: parallelograms across uneven triangles miss, and their edges' centroid evens out.
+test::Arrays irregular_torus(int nu, int nv, unsigned seed) {
+  test::Arrays a = test::torus(nu, nv);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.35, 0.35);
+  const double pi = std::acos(-1.0);
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const double u = 2 * pi * (i + jitter(rng)) / nu, v = 2 * pi * (j + jitter(rng)) / nv;
+      a.points[j * nu + i] = Point((3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v));
+    }
+  return a;
+}
+
+TEST(CompressBlend, RoundTripsExactlyWithEveryWeight) {
+  const FlatMesh flat = flatten(test::holey_slab(2, true).shuffled(4).build());
+  RansEncoder conn_rans;
+  BitWriter conn_raw;
+  CornerTable table;
+  TraversalOrder order;
+  encode_connectivity(flat.table, flat.polygons, Traversal::kRightFirst, conn_rans, conn_raw, table,
+                      order);
+  std::mt19937 rng(8);
+  const unsigned bits = 12;
+  const std::uint32_t top = (1u << bits) - 1;
+  std::vector<QPoint> q(table.n_vertices + 2);  // two isolated vertices last
+  for (QPoint& p : q)
+    for (auto& x : p) x = rng() % 4 == 0 ? (rng() % 2 ? top : 0) : rng() % (top + 1);
+  for (const Blend blend : {Blend{0, 0}, Blend{1, 15}, Blend{15, 1}, Blend{6, 5}}) {
+    CornerTable enc_table = table, dec_table = table;
+    RansEncoder re;
+    BitWriter bw;
+    const auto seq = encode_positions_degree(enc_table, q, bits, re, bw,
+                                             Predictor::kMultiParallelogramBlend, blend);
+    const std::vector<std::uint8_t> rans = re.finish(), raw = bw.finish();
+    RansDecoder rd(rans, 0);
+    BitReader br(raw, 0);
+    std::vector<QPoint> decoded;
+    EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded,
+                                      Predictor::kMultiParallelogramBlend, blend),
+              seq);
+    rd.finish();
+    for (std::size_t i = 0; i < q.size(); ++i)
+      ASSERT_EQ(decoded[i], q[i < seq.size() ? seq[i] : i]) << "vertex " << i;
+  }
+}
+
+TEST(CompressBlend, ChosenOnIrregularSamplingAndSmaller) {
+  const SurfaceMesh m = irregular_torus(60, 40, 2).build();
+  const CompressResult c = compress(m, {.level = 5});
+  EXPECT_EQ(c.stats.predictor, int(Predictor::kMultiParallelogramBlend));
+  const FlatMesh flat = flatten(m);
+  const Quantiser quant = quantiser_for_bits(flat.positions, 11);
+  std::vector<QPoint> q;
+  for (const Point& p : flat.positions) q.push_back(quant.quantise(p));
+  auto geometry_bytes = [&](Blend blend, Blend* suggest) {
+    CornerTable t = flat.table;
+    RansEncoder re;
+    BitWriter bw;
+    encode_positions_degree(t, q, 11, re, bw, Predictor::kMultiParallelogramBlend, blend, suggest);
+    return re.finish().size() + bw.finish().size();
+  };
+  Blend suggested;
+  const std::size_t plain = geometry_bytes({}, &suggested);
+  ASSERT_TRUE(suggested.any());
+  EXPECT_LT(geometry_bytes(suggested, nullptr), plain);
+  const DecompressResult d = decompress(c.bytes);
+  ASSERT_EQ(d.mesh.n_vertices(), m.n_vertices());
+  std::size_t i = 0;
+  for (Vertex v : d.mesh.vertices()) {
+    const Point& p = m.position(Vertex(c.vertex_permutation[i++]));
+    ASSERT_LE((d.mesh.position(v) - p).cwiseAbs().maxCoeff(), c.stats.max_error * (1 + 1e-9));
+  }
+}
+
+TEST(CompressBlend, DamagedStreamsThrowOrDecodeValidMeshes) {
+  const CompressResult c = compress(irregular_torus(16, 10, 3).build(), {.level = 5});
+  ASSERT_EQ(c.stats.predictor, int(Predictor::kMultiParallelogramBlend));
+  EXPECT_NE(c.bytes[40], 0);  // the blend byte (no attribute fields before it): weights in use
+  for (std::size_t len = 0; len < c.bytes.size(); ++len)
+    EXPECT_THROW(decompress(std::span(c.bytes.data(), len)), DecodeError) << len;
+  std::mt19937 rng(41);
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<std::uint8_t> bad = c.bytes;
+    bad[rng() % bad.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+    try {
+      EXPECT_TRUE(validate(decompress(bad).mesh).ok());
+    } catch (const DecodeError&) {
+    }
+  }
+}
+
+TEST(CompressBlend, FlatGridAtTheCheapestResidualsDecodes) {
+  // All residuals zero: each costs the least its length model allows, well past the 64
+  // vertices per geometry byte of predictors 0–3; the decoder's count check must allow it.
+  // A flat 89 × 89 grid spans 2047 = 89 · 23 steps of the 11-bit grid: exact predictions.
+  test::Arrays a = test::grid(89, 89);
+  for (Point& p : a.points) p.z() = 0;
+  const SurfaceMesh m = a.build();
+  const CompressResult c = compress(m, {.level = 5});
+  ASSERT_EQ(c.stats.predictor, int(Predictor::kMultiParallelogramBlend));
+  EXPECT_GT(double(m.n_vertices()) / double(c.stats.geometry_bytes), 64.0);
+  EXPECT_EQ(decompress(c.bytes).mesh.n_vertices(), m.n_vertices());
+}
+
+/// A torus with n isolated points spread over a sphere around it, in random order.
+test::Arrays torus_with_isolated(unsigned n, unsigned seed) {
+  test::Arrays a = test::torus(20, 12);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  for (unsigned i = 0; i < n; ++i) {
+    const Eigen::Vector3d d(g(rng), g(rng), g(rng));
+    a.points.push_back(Point(3.5 * d.normalized()));
+  }
+  return a.shuffled(seed);
+}
+
+TEST(CompressIsolated, ChainedCheaplyAndDecodedWithinTheBound) {
+  const unsigned n = 3000;
+  const test::Arrays a = torus_with_isolated(n, 6);
+  const SurfaceMesh m = a.build();
+  for (bool preserve : {false, true}) {
+    const CompressResult c = compress(m, {.preserve_order = preserve});
+    const DecompressResult d = decompress(c.bytes);
+    ASSERT_EQ(d.mesh.n_vertices(), m.n_vertices());
+    std::size_t i = 0, isolated = 0;
+    for (Vertex v : d.mesh.vertices()) {
+      const Vertex orig(c.vertex_permutation[i++]);
+      if (preserve) {
+        ASSERT_EQ(orig, v);
+      }
+      ASSERT_EQ(d.mesh.is_isolated(v), m.is_isolated(orig)) << "vertex " << v.idx();
+      isolated += d.mesh.is_isolated(v);
+      ASSERT_LE((d.mesh.position(v) - m.position(orig)).cwiseAbs().maxCoeff(),
+                c.stats.max_error * (1 + 1e-9))
+          << "vertex " << v.idx();
+    }
+    EXPECT_EQ(isolated, n);
+  }
+  // The isolated points alone, each coded as the delta from the one before: in their random
+  // input order about 33 bits a point on this 11-bit grid, chained about 22.
+  std::vector<Point> cloud(a.points.end() - n, a.points.end());
+  const Quantiser quant = quantiser_for_bits(cloud, 11);
+  std::vector<QPoint> in_order, chained;
+  for (const Point& p : cloud) in_order.push_back(quant.quantise(p));
+  for (std::uint32_t i : point_chain(in_order)) chained.push_back(in_order[i]);
+  auto bits_per_point = [&](const std::vector<QPoint>& q) {
+    CornerTable none;
+    RansEncoder re;
+    BitWriter bw;
+    encode_positions_degree(none, q, 11, re, bw, Predictor::kMultiParallelogramBlend);
+    return 8.0 * double(re.finish().size() + bw.finish().size()) / n;
+  };
+  const double random_order = bits_per_point(in_order), chain = bits_per_point(chained);
+  EXPECT_GT(random_order, 30.0);
+  EXPECT_LT(chain, 24.0);
+}
+
+}  // namespace
+}  // namespace geom::codec::detail
