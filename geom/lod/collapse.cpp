@@ -1,5 +1,6 @@
 #include <geom/lod/collapse.h>
 
+#include <geom/core/from_triangles.h>
 #include <geom/core/huge_pages.h>
 
 #include <Eigen/Geometry>
@@ -593,22 +594,24 @@ std::vector<Point> CollapseEngine::normalised_positions() const {
 }
 
 SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
-  SurfaceMesh out;
   std::vector<std::uint32_t> index(vd_.size(), kNone);
-  std::size_t nv = 0;
-  for (const VertexData& d : vd_) nv += d.ref_size > 0;
-  out.reserve(nv, alive_triangles_ * 3 / 2 + 3, alive_triangles_);
+  std::vector<Point> positions;
+  positions.reserve(vd_.size());
   if (out_origin) out_origin->clear();
   for (std::size_t v = 0; v < vd_.size(); ++v) {
     if (vd_[v].ref_size == 0) continue;
-    index[v] = out.add_vertex(model_[v]).idx();
+    index[v] = static_cast<std::uint32_t>(positions.size());
+    positions.push_back(model_[v]);
     if (out_origin) out_origin->push_back(vertex_of_[v]);
   }
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  kept.reserve(alive_triangles_);
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     if (!tri_alive_[t]) continue;
     const auto& tri = triangles_[t];
-    out.add_triangle(Vertex(index[tri[0]]), Vertex(index[tri[1]]), Vertex(index[tri[2]]));
+    kept.push_back({index[tri[0]], index[tri[1]], index[tri[2]]});
   }
+  SurfaceMesh out = mesh_from_triangles(positions, kept);
   if (attributes_) write_attributes(out);
   return out;
 }
