@@ -24,7 +24,7 @@ namespace {
 
 template <class Sink>
 void catmark_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
-  const std::uint32_t E = p.ne, F = p.nf, V = p.nv, C = p.n_corners;
+  const std::uint32_t E = p.ne, F = p.nf, C = p.n_corners;
   set_child_counts(p, c, true);
   out.allocate(ctx);
   c.parent_face.resize(ctx.parent_faces ? c.nf : 0);
@@ -59,31 +59,7 @@ void catmark_topology(const Level& p, Level& c, Sink& out, const Context& ctx) {
       }
     }
   });
-  // Boundary child halfedges: the two halves of each boundary halfedge, in loop order.
-  for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t h = b; h < end; ++h) {
-      if (p.face[h] != kNone) continue;
-      const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
-      out.to(fst, F + (h >> 1));
-      out.to(snd, F + E + p.to[h]);
-      out.next(fst, snd);
-      out.next(snd, first_half(p.next[h], C));
-      out.face(fst, kNone);
-      out.face(snd, kNone);
-      if (!ctx.last) {
-        out.slot(fst, kNone);
-        out.slot(snd, kNone);
-      }
-    }
-  });
-  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t e = b; e < end; ++e)
-      out.vh(F + e, p.face[2 * e + 1] == kNone ? second_half(2 * e + 1, C) : second_half(2 * e, C));
-  });
-  for_range(V, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t v = b; v < end; ++v)
-      out.vh(F + E + v, p.vh[v] == kNone ? kNone : first_half(p.vh[v], C));
-  });
+  link_boundary_and_points(p, out, ctx, F, F + E);
   refine_sharpness(p, c, F + E, ctx);
 }
 

@@ -136,6 +136,41 @@ void for_range(std::uint32_t n, bool parallel, const F& f) {
                     [&](const tbb::blocked_range<std::uint32_t>& r) { f(r.begin(), r.end()); });
 }
 
+/// The part of a child level both schemes link alike once the interior faces are written:
+/// the two halves of each parent boundary halfedge (in loop order), and the outgoing
+/// halfedges of edge-points (child vertices from `edge_base`) and vertex-points (from
+/// `vertex_base`).
+template <class Sink>
+void link_boundary_and_points(const Level& p, Sink& out, const Context& ctx,
+                              std::uint32_t edge_base, std::uint32_t vertex_base) {
+  const std::uint32_t E = p.ne, V = p.nv, C = p.n_corners;
+  for_range(2 * E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t h = b; h < end; ++h) {
+      if (p.face[h] != kNone) continue;
+      const std::uint32_t fst = first_half(h, C), snd = second_half(h, C);
+      out.to(fst, edge_base + (h >> 1));
+      out.to(snd, vertex_base + p.to[h]);
+      out.next(fst, snd);
+      out.next(snd, first_half(p.next[h], C));
+      out.face(fst, kNone);
+      out.face(snd, kNone);
+      if (!ctx.last) {
+        out.slot(fst, kNone);
+        out.slot(snd, kNone);
+      }
+    }
+  });
+  for_range(E, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e)
+      out.vh(edge_base + e,
+             p.face[2 * e + 1] == kNone ? second_half(2 * e + 1, C) : second_half(2 * e, C));
+  });
+  for_range(V, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t v = b; v < end; ++v)
+      out.vh(vertex_base + v, p.vh[v] == kNone ? kNone : first_half(p.vh[v], C));
+  });
+}
+
 /// Child element counts of one refinement of `p` (face_base cleared, no arrays sized).
 inline void set_child_counts(const Level& p, Level& c, bool catmark) {
   const std::uint32_t E = p.ne, F = p.nf, V = p.nv, C = p.n_corners;
