@@ -82,5 +82,20 @@ TEST(CompressReal, RoundTripsEveryCorpusMesh) {
   EXPECT_GT(tested, 20u);
 }
 
+// Corner normals (suzanne) and corner UVs (the rook) made level 6 larger than level 5 when
+// the search ignored the attributes' size.
+TEST(CompressReal, LevelsAreMonotonicWithCornerAttributes) {
+  GEOM_REQUIRE_DATA_DIR(dir);
+  for (const char* name : {"suzanne.obj", "opensubdiv/catmark_rook.obj"}) {
+    const SurfaceMesh mesh = load_mesh(dir / name).mesh;
+    std::size_t prev = SIZE_MAX;
+    for (int level = 0; level <= 9; ++level) {
+      const std::size_t size = compress(mesh, {.level = level}).bytes.size();
+      EXPECT_LE(size, prev) << name << ", level " << level;
+      prev = size;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace geom

@@ -301,31 +301,192 @@ void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where,
   }
 }
 
-}  // namespace
+/// What compress() is coding, shared by the search and the writer.
+struct EncodeInput {
+  const SurfaceMesh& mesh;
+  const CompressOptions& options;
+  const FlatMesh& flat;
+  const Quantiser& quant;
+  const Attributes& attributes;
+};
 
-CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options) {
-  if (options.level < 0 || options.level > 9)
-    throw InvalidArgument("compression level must be in [0, 9], got " + std::to_string(options.level));
-  FlatMesh flat = flatten(mesh);
-  const Quantiser quant = options.precision > 0
-                              ? quantiser_for_precision(flat.positions, options.precision)
-                              : (options.precision < 0 || std::isnan(options.precision)
-                                     ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
-                                     : quantiser_for_bits(flat.positions, options.bits));
-  const std::size_t nv = flat.positions.size();
-  const Attributes attributes = gather_attributes(mesh, options);
-  std::vector<QPoint> q_in(nv);
-  for (std::size_t i = 0; i < nv; ++i) q_in[i] = quant.quantise(flat.positions[i]);
+/// Everything coded after the geometry. It depends on the candidate's table and vertex
+/// order, so a level's search weighs it too; otherwise a higher level could pick a smaller
+/// geometry with larger attributes and give a larger stream.
+struct Tail {
+  std::vector<std::uint32_t> face_order;  // decoded face → dense input face
+  Streams order, normals, uvs;
+  ExtensionEncoding extension;
+};
 
-  const std::vector<std::uint32_t> isolated = isolated_order(flat.table, q_in);
+Streams encode_order(const EncodeInput& in, const Candidate& c, const Polygons& polys,
+                     std::span<const std::uint32_t> face_order) {
+  const std::size_t nv = in.flat.positions.size();
+  RansEncoder re;
+  BitWriter bw;
+  GammaModel vm, fm, rm;
+  std::int64_t prev = 0;
+  for (std::uint32_t v : c.vertex_order) {
+    vm.encode(re, bw, zigzag(std::int64_t{v} - prev));
+    prev = v;
+  }
+  std::vector<std::uint32_t> decoded_id(nv);
+  for (std::uint32_t i = 0; i < nv; ++i) decoded_id[c.vertex_order[i]] = i;
+  prev = 0;
+  for (std::size_t j = 0; j < polys.size(); ++j) {
+    const std::uint32_t f = face_order[j];
+    fm.encode(re, bw, zigzag(std::int64_t{f} - prev));
+    prev = f;
+    const std::uint32_t first = decoded_id[in.flat.face_first_vertex[f]];
+    std::uint32_t rot = 0;
+    while (polys.vertex[polys.offset[j] + rot] != first) ++rot;
+    rm.encode(re, bw, rot);
+  }
+  Streams s;
+  if (re.symbols() > 0) s.rans = re.finish();
+  s.raw = bw.finish();
+  return s;
+}
+
+std::vector<std::uint32_t> face_order(const EncodeInput& in, const Candidate& c,
+                                      const Polygons& polys) {
+  std::vector<std::uint32_t> order(polys.size());
+  for (std::size_t j = 0; j < polys.size(); ++j)
+    order[j] = in.flat.triangle_face[c.order.corner_origin[3 * polys.first_triangle[j]] / 3];
+  return order;
+}
+
+Tail encode_tail(const EncodeInput& in, const Candidate& c) {
+  const std::size_t nv = in.flat.positions.size();
+  const Attributes& attributes = in.attributes;
+  Tail tail;
+  const Polygons polys = reassemble(c.table, 0);
+  tail.face_order = face_order(in, c, polys);
+  if (in.options.preserve_order) tail.order = encode_order(in, c, polys, tail.face_order);
+
+  // Attributes follow the decoded vertex order on the chosen table.
+  std::vector<QPoint> qa(nv);
+  if (!attributes.normals.empty()) {
+    for (std::size_t i = 0; i < nv; ++i)
+      qa[i] = octahedral_quantise(attributes.normals[c.vertex_order[i]], in.options.normal_bits,
+                                  c.vertex_order[i]);
+    encode_attribute(c.table, qa, in.options.normal_bits, tail.normals.rans, tail.normals.raw);
+  }
+  if (!attributes.uvs.empty()) {
+    for (std::size_t i = 0; i < nv; ++i) {
+      const TexCoord& t = attributes.uvs[c.vertex_order[i]];
+      qa[i] = attributes.uv_grid.quantise(Point(t.x(), t.y(), 0.0));
+    }
+    encode_attribute(c.table, qa, attributes.uv_grid.bits, tail.uvs.rans, tail.uvs.raw);
+  }
+  tail.extension = encode_extension(in.mesh, in.options, in.flat, c.table, c.order.corner_origin,
+                                    c.vertex_order, !attributes.normals.empty(),
+                                    !attributes.uvs.empty());
+  return tail;
+}
+
+/// Whether every candidate's tail is empty, judged from one candidate's: which parts exist
+/// depends on the mesh and the options, not on the candidate.
+bool tail_is_empty(const Tail& t) {
+  return t.order.size() + t.normals.size() + t.uvs.size() + t.extension.bytes.size() == 0;
+}
+
+/// The stream of candidate c with its tail, and its stats (not the permutations).
+CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tail& tail) {
+  const Attributes& attributes = in.attributes;
+  const std::size_t nv = in.flat.positions.size();
+  ByteWriter w;
+  for (std::uint8_t m : kMagic) w.u8(m);
+  const bool has_attributes =
+      !attributes.normals.empty() || !attributes.uvs.empty() || !tail.extension.bytes.empty();
+  w.u8(has_attributes ? kVersionAttributes : kVersion);
+  std::uint8_t flags = 0;
+  if (in.options.preserve_order) flags |= kFlagPreserveOrder;
+  if (in.flat.polygons) flags |= kFlagPolygons;
+  if (c.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
+  if (!attributes.normals.empty()) flags |= kFlagNormals;
+  if (!attributes.uvs.empty()) flags |= kFlagTexcoords;
+  if (!tail.extension.bytes.empty()) flags |= kFlagExtension;
+  w.u8(flags);
+  w.u8(static_cast<std::uint8_t>(c.predictor));
+  w.u8(static_cast<std::uint8_t>(in.quant.bits));
+  for (int a = 0; a < 3; ++a) w.f64(in.quant.origin[a]);
+  w.f64(in.quant.step);
+  write_attribute_header(w, attributes.normals.empty() ? 0 : in.options.normal_bits,
+                         attributes.uvs.empty() ? nullptr : &attributes.uv_grid);
+  if (c.predictor == Predictor::kMultiParallelogramBlend) w.u8(c.blend.byte());
+  w.varint(in.flat.n_faces);
+  w.varint(in.flat.table.n_triangles());
+  w.varint(nv);
+  w.varint(nv - c.table.n_vertices);
+  CompressResult result;
+  CompressStats& stats = result.stats;
+  stats.header_bytes = w.bytes().size();
+  // Writes a stream's two sections and returns the bytes they took.
+  auto put = [&w](const Streams& s) {
+    const std::size_t before = w.bytes().size();
+    write_section(w, s.rans);
+    write_section(w, s.raw);
+    return w.bytes().size() - before;
+  };
+  stats.connectivity_bytes = put(c.connectivity);
+  stats.geometry_bytes = put(c.geometry);
+  if (!attributes.normals.empty()) stats.normal_bytes = put(tail.normals);
+  if (!attributes.uvs.empty()) {
+    stats.texcoord_bytes = put(tail.uvs);
+    stats.texcoord_max_error = attributes.uv_grid.max_error();
+  }
+  if (in.options.preserve_order) stats.order_bytes = put(tail.order);
+  w.append(tail.extension.bytes);
+  stats.attributes = tail.extension.attributes;
+  stats.dropped_properties = tail.extension.dropped;
+  result.bytes = std::move(w.bytes());
+  stats.bits = in.quant.bits;
+  stats.step = in.quant.step;
+  stats.max_error = in.quant.max_error();
+  stats.predictor = static_cast<int>(c.predictor);
+  stats.traversal = static_cast<int>(c.traversal);
+  return result;
+}
+
+/// The smallest whole stream seen so far, with what its permutations need.
+struct Best {
+  CompressResult result;
+  Candidate candidate;
+  std::vector<std::uint32_t> face_order;  // empty until known
+  bool have = false;
+  bool empty_tail = false;  // known once the first candidate's tail is coded
+  ExtensionEncoding empty_extension;  // with empty_tail: codes nothing, names what is dropped
+};
+
+void consider(const EncodeInput& in, Candidate&& c, Best& best) {
+  Tail tail;
+  if (!best.have || !best.empty_tail)
+    tail = encode_tail(in, c);
+  else
+    tail.extension = best.empty_extension;
+  CompressResult r = write_stream(in, c, tail);
+  if (!best.have && tail_is_empty(tail)) {
+    best.empty_tail = true;
+    best.empty_extension = tail.extension;
+  }
+  if (best.have && r.bytes.size() >= best.result.bytes.size()) return;
+  best.result = std::move(r);
+  best.candidate = std::move(c);
+  best.face_order = std::move(tail.face_order);
+  best.have = true;
+}
+
+/// Codes every configuration of the level and keeps the smallest stream in best.
+void search(const EncodeInput& in, std::span<const QPoint> q_in,
+            std::span<const std::uint32_t> isolated, Best& best) {
+  const std::size_t nv = in.flat.positions.size();
   Blend blend;  // predictor 4's weights, measured on the first traversal
   bool blend_measured = false;
-  Candidate best;
-  bool have_best = false;
   std::vector<QPoint> qd(nv);
   for (Traversal trav : {Traversal::kRightFirst, Traversal::kLeftFirst}) {
     std::vector<Predictor> preds;
-    for (auto [t, p] : configurations(options.level))
+    for (auto [t, p] : configurations(in.options.level))
       if (t == trav) preds.push_back(p);
     if (preds.empty()) continue;
     Candidate c;
@@ -333,45 +494,36 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     {
       RansEncoder re;
       BitWriter bw;
-      encode_connectivity(flat.table, flat.polygons, trav, re, bw, c.table, c.order);
-      if (!flat.table.vertex.empty()) c.connectivity.rans = re.finish();
+      encode_connectivity(in.flat.table, in.flat.polygons, trav, re, bw, c.table, c.order);
+      if (!in.flat.table.vertex.empty()) c.connectivity.rans = re.finish();
       c.connectivity.raw = bw.finish();
     }
     c.vertex_order = c.order.vertex_origin;
     c.vertex_order.insert(c.vertex_order.end(), isolated.begin(), isolated.end());
-    // Codes the positions with predictor p on this traversal and keeps the result if it is
-    // the smallest so far.
+    // Codes the positions with predictor p on this traversal.
     auto try_predictor = [&](Predictor p, Blend weights, Blend* suggest) {
-      CornerTable table = c.table;
-      std::vector<std::uint32_t> vertex_order = c.vertex_order;
-      for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[vertex_order[i]];
+      Candidate k;
+      k.traversal = trav;
+      k.predictor = p;
+      k.blend = weights;
+      k.connectivity = c.connectivity;
+      k.table = c.table;
+      k.order = c.order;
+      k.vertex_order = c.vertex_order;
+      for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[k.vertex_order[i]];
       RansEncoder re;
       BitWriter bw;
       if (p == Predictor::kMultiParallelogramDegree || p == Predictor::kMultiParallelogramBlend) {
         // One fused pass renumbers the table and codes (qd is in the table's numbering).
         const std::vector<std::uint32_t> seq =
-            encode_positions_degree(table, qd, quant.bits, re, bw, p, weights, suggest);
-        for (std::size_t i = 0; i < seq.size(); ++i) vertex_order[i] = c.vertex_order[seq[i]];
+            encode_positions_degree(k.table, qd, in.quant.bits, re, bw, p, weights, suggest);
+        for (std::size_t i = 0; i < seq.size(); ++i) k.vertex_order[i] = c.vertex_order[seq[i]];
       } else {
-        encode_positions(table, qd, quant.bits, p, re, bw);
+        encode_positions(k.table, qd, in.quant.bits, p, re, bw);
       }
-      Streams g;
-      if (nv > 0) g.rans = re.finish();
-      g.raw = bw.finish();
-      const std::size_t size = c.connectivity.size() + g.size();
-      if (!have_best || size < best.connectivity.size() + best.geometry.size()) {
-        Candidate keep;
-        keep.traversal = trav;
-        keep.predictor = p;
-        keep.blend = weights;
-        keep.connectivity = c.connectivity;
-        keep.geometry = std::move(g);
-        keep.table = std::move(table);
-        keep.order = c.order;
-        keep.vertex_order = std::move(vertex_order);
-        best = std::move(keep);
-        have_best = true;
-      }
+      if (nv > 0) k.geometry.rans = re.finish();
+      k.geometry.raw = bw.finish();
+      consider(in, std::move(k), best);
     };
     for (Predictor p : preds) {
       if (p != Predictor::kMultiParallelogramBlend) {
@@ -387,123 +539,39 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
       }
     }
   }
+}
 
-  const Polygons polys = reassemble(best.table, 0);
-  std::vector<std::uint32_t> face_order(polys.size());
-  for (std::size_t j = 0; j < polys.size(); ++j)
-    face_order[j] = flat.triangle_face[best.order.corner_origin[3 * polys.first_triangle[j]] / 3];
+}  // namespace
 
-  Streams order;
-  if (options.preserve_order) {
-    RansEncoder re;
-    BitWriter bw;
-    GammaModel vm, fm, rm;
-    std::int64_t prev = 0;
-    for (std::uint32_t v : best.vertex_order) {
-      vm.encode(re, bw, zigzag(std::int64_t{v} - prev));
-      prev = v;
-    }
-    std::vector<std::uint32_t> decoded_id(nv);
-    for (std::uint32_t i = 0; i < nv; ++i) decoded_id[best.vertex_order[i]] = i;
-    prev = 0;
-    for (std::size_t j = 0; j < polys.size(); ++j) {
-      const std::uint32_t f = face_order[j];
-      fm.encode(re, bw, zigzag(std::int64_t{f} - prev));
-      prev = f;
-      const std::uint32_t first = decoded_id[flat.face_first_vertex[f]];
-      std::uint32_t rot = 0;
-      while (polys.vertex[polys.offset[j] + rot] != first) ++rot;
-      rm.encode(re, bw, rot);
-    }
-    if (re.symbols() > 0) order.rans = re.finish();
-    order.raw = bw.finish();
-  }
+CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options) {
+  if (options.level < 0 || options.level > 9)
+    throw InvalidArgument("compression level must be in [0, 9], got " + std::to_string(options.level));
+  FlatMesh flat = flatten(mesh);
+  const Quantiser quant = options.precision > 0
+                              ? quantiser_for_precision(flat.positions, options.precision)
+                              : (options.precision < 0 || std::isnan(options.precision)
+                                     ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
+                                     : quantiser_for_bits(flat.positions, options.bits));
+  const std::size_t nv = flat.positions.size();
+  const Attributes attributes = gather_attributes(mesh, options);
+  std::vector<QPoint> q_in(nv);
+  for (std::size_t i = 0; i < nv; ++i) q_in[i] = quant.quantise(flat.positions[i]);
+  const std::vector<std::uint32_t> isolated = isolated_order(flat.table, q_in);
 
-  // Attributes follow the decoded vertex order on the chosen table.
-  Streams normal_streams, uv_streams;
-  std::vector<QPoint> qa(nv);
-  if (!attributes.normals.empty()) {
-    for (std::size_t i = 0; i < nv; ++i)
-      qa[i] = octahedral_quantise(attributes.normals[best.vertex_order[i]], options.normal_bits,
-                                  best.vertex_order[i]);
-    encode_attribute(best.table, qa, options.normal_bits, normal_streams.rans, normal_streams.raw);
-  }
-  if (!attributes.uvs.empty()) {
-    for (std::size_t i = 0; i < nv; ++i) {
-      const TexCoord& t = attributes.uvs[best.vertex_order[i]];
-      qa[i] = attributes.uv_grid.quantise(Point(t.x(), t.y(), 0.0));
-    }
-    encode_attribute(best.table, qa, attributes.uv_grid.bits, uv_streams.rans, uv_streams.raw);
-  }
-
-  ByteWriter w;
-  for (std::uint8_t m : kMagic) w.u8(m);
-  const ExtensionEncoding extension =
-      encode_extension(mesh, options, flat, best.table, best.order.corner_origin, best.vertex_order,
-                       !attributes.normals.empty(), !attributes.uvs.empty());
-  const bool has_attributes =
-      !attributes.normals.empty() || !attributes.uvs.empty() || !extension.bytes.empty();
-  w.u8(has_attributes ? kVersionAttributes : kVersion);
-  std::uint8_t flags = 0;
-  if (options.preserve_order) flags |= kFlagPreserveOrder;
-  if (flat.polygons) flags |= kFlagPolygons;
-  if (best.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
-  if (!attributes.normals.empty()) flags |= kFlagNormals;
-  if (!attributes.uvs.empty()) flags |= kFlagTexcoords;
-  if (!extension.bytes.empty()) flags |= kFlagExtension;
-  w.u8(flags);
-  w.u8(static_cast<std::uint8_t>(best.predictor));
-  w.u8(static_cast<std::uint8_t>(quant.bits));
-  for (int a = 0; a < 3; ++a) w.f64(quant.origin[a]);
-  w.f64(quant.step);
-  write_attribute_header(w, attributes.normals.empty() ? 0 : options.normal_bits,
-                         attributes.uvs.empty() ? nullptr : &attributes.uv_grid);
-  if (best.predictor == Predictor::kMultiParallelogramBlend) w.u8(best.blend.byte());
-  w.varint(flat.n_faces);
-  w.varint(flat.table.n_triangles());
-  w.varint(nv);
-  w.varint(nv - best.table.n_vertices);
-  CompressResult result;
-  result.stats.header_bytes = w.bytes().size();
-  const std::size_t before_conn = w.bytes().size();
-  write_section(w, best.connectivity.rans);
-  write_section(w, best.connectivity.raw);
-  result.stats.connectivity_bytes = w.bytes().size() - before_conn;
-  write_section(w, best.geometry.rans);
-  write_section(w, best.geometry.raw);
-  result.stats.geometry_bytes = w.bytes().size() - before_conn - result.stats.connectivity_bytes;
-  for (const Streams* a : {&normal_streams, &uv_streams}) {
-    if (a == &normal_streams ? attributes.normals.empty() : attributes.uvs.empty()) continue;
-    const std::size_t before = w.bytes().size();
-    write_section(w, a->rans);
-    write_section(w, a->raw);
-    (a == &normal_streams ? result.stats.normal_bytes : result.stats.texcoord_bytes) =
-        w.bytes().size() - before;
-  }
-  if (!attributes.uvs.empty()) result.stats.texcoord_max_error = attributes.uv_grid.max_error();
-  if (options.preserve_order) {
-    const std::size_t before = w.bytes().size();
-    write_section(w, order.rans);
-    write_section(w, order.raw);
-    result.stats.order_bytes = w.bytes().size() - before;
-  }
-  w.append(extension.bytes);
-  result.stats.attributes = extension.attributes;
-  result.stats.dropped_properties = extension.dropped;
-  result.bytes = std::move(w.bytes());
-  result.stats.bits = quant.bits;
-  result.stats.step = quant.step;
-  result.stats.max_error = quant.max_error();
-  result.stats.predictor = static_cast<int>(best.predictor);
-  result.stats.traversal = static_cast<int>(best.traversal);
+  const EncodeInput in{mesh, options, flat, quant, attributes};
+  Best best;
+  search(in, q_in, isolated, best);
+  CompressResult result = std::move(best.result);
   if (options.preserve_order) {
     result.vertex_permutation.resize(nv);
     result.face_permutation.resize(flat.n_faces);
     for (std::uint32_t i = 0; i < nv; ++i) result.vertex_permutation[i] = i;
     for (std::uint32_t i = 0; i < flat.n_faces; ++i) result.face_permutation[i] = i;
   } else {
-    result.vertex_permutation = std::move(best.vertex_order);
-    result.face_permutation = std::move(face_order);
+    if (best.face_order.empty())
+      best.face_order = face_order(in, best.candidate, reassemble(best.candidate.table, 0));
+    result.vertex_permutation = std::move(best.candidate.vertex_order);
+    result.face_permutation = std::move(best.face_order);
   }
   return result;
 }
