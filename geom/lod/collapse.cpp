@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 #include <unordered_set>
+#include <utility>
 
 namespace geom::detail {
 
@@ -18,6 +19,14 @@ namespace {
 std::uint64_t pair_key(Vertex a, Vertex b) {
   const std::uint64_t lo = std::min(a.idx(), b.idx()), hi = std::max(a.idx(), b.idx());
   return lo << 32 | hi;
+}
+
+// (b − a) × (c − a), spelled out: GCC leaves Eigen's cross of two difference expressions
+// out of line, a call per triangle in the collapse checks.
+Eigen::Vector3d normal(const Point& a, const Point& b, const Point& c) {
+  const double ux = b.x() - a.x(), uy = b.y() - a.y(), uz = b.z() - a.z();
+  const double vx = c.x() - a.x(), vy = c.y() - a.y(), vz = c.z() - a.z();
+  return {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
 }
 
 double quality(const Point& a, const Point& b, const Point& c, double area2) {
@@ -60,8 +69,10 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   std::vector<std::uint32_t> dense(mesh.vertices_size(), kNone);
   vertex_of_.reserve(mesh.n_vertices());
   original_positions_.reserve(mesh.n_vertices());
+  bool closed = true;
   for (Vertex v : mesh.vertices()) {
     if (mesh.is_isolated(v)) continue;
+    closed = closed && !mesh.is_boundary(v);
     dense[v.idx()] = static_cast<std::uint32_t>(vertex_of_.size());
     vertex_of_.push_back(v);
     original_positions_.push_back(mesh.position(v));
@@ -114,12 +125,17 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   for (const auto& t : triangles_)
     for (std::uint32_t v : t) ++count[v];
   std::uint32_t offset = 0;
-  for (std::size_t v = 0; v < n; ++v) vd_[v].ref_begin = offset, offset += count[v];
+  for (std::size_t v = 0; v < n; ++v) {
+    vd_[v].ref_begin = offset;
+    vd_[v].ref_size = count[v];
+    offset += std::exchange(count[v], offset);
+  }
   refs_.reserve(3 * static_cast<std::size_t>(offset) + 64);
   advise_huge_pages(refs_.data(), refs_.capacity() * sizeof(std::uint32_t));
   refs_.resize(offset);
+  // count[v] is now v's fill cursor: a dense array, where vd_ has a record of two lines.
   for (std::uint32_t t = 0; t < triangles_.size(); ++t)
-    for (std::uint32_t v : triangles_[t]) refs_[vd_[v].ref_begin + vd_[v].ref_size++] = t;
+    for (std::uint32_t v : triangles_[t]) refs_[count[v]++] = t;
 
   // Each face's plane is weighted by its area plus a quarter of the mean area. Pure area
   // weights (the integral of squared distance) give the best RMS error, but let small
@@ -144,8 +160,9 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   }
 
   // Boundary edges: a→b with no triangle b→a around a. Each gets a constraint plane
-  // through the edge, perpendicular to its face, weighted like an area (length²).
-  for (std::uint32_t a = 0; a < n; ++a) {
+  // through the edge, perpendicular to its face, weighted like an area (length²). A closed
+  // mesh has none (its polygons' fans pair every edge), so the search is skipped there.
+  for (std::uint32_t a = 0; a < n && !closed; ++a) {
     for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i) {
       const auto& t = triangles_[refs_[i]];
       const int k = t[0] == a ? 0 : t[1] == a ? 1 : 2;
@@ -216,10 +233,16 @@ void CollapseEngine::RadixQueue::push(Candidate c) {
 }
 
 void CollapseEngine::RadixQueue::assign(std::vector<Candidate> entries) {
-  // All in the top bucket: the first settle() finds their minimum and spreads them out, as
-  // it does with any bucket. No key has bit 31 set, so none lands there again.
+  // What settle() would do with them all in one bucket, but with each bucket sized once:
+  // grown push by push, the big ones were copied over and over.
+  if (entries.empty()) return;
+  last_ = 0xffffffffu;
+  for (const Candidate& c : entries) last_ = std::min(last_, key(c.cost));
+  std::array<std::size_t, 33> count{};
+  for (const Candidate& c : entries) ++count[bucket(key(c.cost))];
+  for (std::size_t i = 0; i < count.size(); ++i) buckets_[i].reserve(count[i]);
+  for (const Candidate& c : entries) buckets_[bucket(key(c.cost))].push_back(c);
   size_ = entries.size();
-  buckets_[32] = std::move(entries);
 }
 
 bool CollapseEngine::RadixQueue::current(const Candidate& c) const {
@@ -341,11 +364,13 @@ void CollapseEngine::push_vertex_edges(std::uint32_t v) {
 
 void CollapseEngine::drop_ref(std::uint32_t w, std::uint32_t t) {
   // Order-preserving: traversal order decides ties, so it stays what it was.
+  // The lists are short: a plain loop, not a call to memmove.
   std::uint32_t* list = refs_.data() + vd_[w].ref_begin;
-  std::uint32_t* end = list + vd_[w].ref_size;
-  std::uint32_t* at = std::find(list, end, t);
-  std::copy(at + 1, end, at);
-  --vd_[w].ref_size;
+  const std::uint32_t n = vd_[w].ref_size;
+  std::uint32_t i = 0;
+  while (list[i] != t) ++i;
+  for (; i + 1 < n; ++i) list[i] = list[i + 1];
+  vd_[w].ref_size = n - 1;
 }
 
 // Whether triangle t stays acceptable when its corner `moved` goes to p: no flip against its
@@ -356,11 +381,11 @@ bool CollapseEngine::face_ok(std::uint32_t t, std::uint32_t moved, const Point& 
   const Point& a = vd_[tri[0]].p;
   const Point& b = vd_[tri[1]].p;
   const Point& c = vd_[tri[2]].p;
-  const Eigen::Vector3d n0 = (b - a).cross(c - a);
+  const Eigen::Vector3d n0 = normal(a, b, c);
   const Point& a1 = k == 0 ? p : a;
   const Point& b1 = k == 1 ? p : b;
   const Point& c1 = k == 2 ? p : c;
-  const Eigen::Vector3d n1 = (b1 - a1).cross(c1 - a1);
+  const Eigen::Vector3d n1 = normal(a1, b1, c1);
   if (n0.squaredNorm() > 0 && !(n0.dot(n1) > 0)) return false;
   // Most triangles pass the quality bound by far; those above twice the bound are let
   // through without a square root (quality² = 12·|n|² / s²).
@@ -398,6 +423,9 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
     if (n_shared == 2) return 0;
     const auto& tri = triangles_[t];
     opposite[n_shared++] = tri[0] != u && tri[0] != v ? tri[0] : tri[1] != u && tri[1] != v ? tri[1] : tri[2];
+    // The collapse would drop the shared triangle from this list: fetch it while the
+    // checks below run.
+    __builtin_prefetch(refs_.data() + vd_[opposite[n_shared - 1]].ref_begin);
   }
   if (n_shared == 0) return 0;
   if (attributes_ && !attributes_allow(u, v, pl)) [[unlikely]] return 0;
@@ -536,14 +564,18 @@ void CollapseEngine::prefetch_upcoming() const {
     for (std::uint32_t x : ends(c))
       for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i)
         __builtin_prefetch(&triangles_[refs_[i]]);
+  // One corner per triangle, the one after x: around an interior vertex that is each
+  // neighbour once, where all three corners fetched each neighbour twice and x itself every
+  // time, and the surplus prefetches queued behind the misses.
   if (const Candidate* c = queue_.peek(0))
     for (std::uint32_t x : ends(c))
-      for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i)
-        for (std::uint32_t w : triangles_[refs_[i]]) {
-          __builtin_prefetch(&vd_[w].q);
-          __builtin_prefetch(&vd_[w].p);
-          __builtin_prefetch(&stamp_[w]);
-        }
+      for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i) {
+        const auto& tri = triangles_[refs_[i]];
+        const std::uint32_t w = tri[0] == x ? tri[1] : tri[1] == x ? tri[2] : tri[0];
+        __builtin_prefetch(&vd_[w].q);
+        __builtin_prefetch(&vd_[w].p);
+        __builtin_prefetch(&stamp_[w]);
+      }
 }
 
 SimplifyStop CollapseEngine::run(std::size_t target) {
