@@ -87,6 +87,10 @@ class RansEncoder {
   /// Code a value below 2^bits (bits ≤ 15) with a flat distribution.
   void encode_flat(std::uint32_t value, unsigned bits);
   std::size_t symbols() const { return entries_.size(); }
+  /// Room for n symbols, so a long stream does not copy its buffer as it grows.
+  void reserve(std::size_t n) { entries_.reserve(n); }
+  /// Forget the symbols, keeping the buffer (an encoder reused for several trial codings).
+  void clear() { entries_.clear(); }
   /// The coded bytes: 4 bytes of final state followed by the renormalisation bytes.
   std::vector<std::uint8_t> finish() const;
 
