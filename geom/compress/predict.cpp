@@ -284,6 +284,80 @@ inline T floor_div(T a, T b) {
 
 }  // namespace
 
+void encode_positions_each(const CornerTable& t, std::span<const QPoint> q, unsigned bits,
+                           std::span<const Predictor> predictors, std::span<RansEncoder> rans,
+                           std::span<BitWriter> raw) {
+  const std::size_t np = predictors.size();
+  if (np > kMaxEach || rans.size() != np || raw.size() != np)
+    throw InvalidArgument("encode_positions_each: one coder per predictor, at most 4");
+  const Incidence inc(t);
+  const std::uint32_t top = static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1);
+  std::vector<ResidualModels> models(np);
+  // Residual lengths interleaved per vertex: a neighbour's lengths share a cache line.
+  std::vector<std::uint8_t> rlen(q.size() * np, 0);
+  unsigned prev_len[kMaxEach] = {}, activity[kMaxEach] = {};
+  for (std::uint32_t w = 0; w < q.size(); ++w) {
+    // predict() for every predictor at once: one scan of w's corners. A parallelogram
+    // predictor stops at its first parallelogram, and its activity with it.
+    unsigned act_sum[kMaxEach] = {}, act_n[kMaxEach] = {}, count[kMaxEach] = {};
+    std::int64_t sum[kMaxEach][3] = {};
+    bool stopped[kMaxEach] = {};
+    std::uint32_t neighbour = kNone;
+    for (std::uint32_t i = w < t.n_vertices ? inc.offset[w] : 0;
+         w < t.n_vertices && i < inc.offset[w + 1]; ++i) {
+      const std::uint32_t k = inc.corner[i];
+      const std::uint32_t a = t.vertex[next_corner(k)], b = t.vertex[prev_corner(k)];
+      for (std::size_t j = 0; j < np; ++j) {
+        if (stopped[j]) continue;
+        if (a < w) act_sum[j] += rlen[a * np + j], ++act_n[j];
+        if (b < w) act_sum[j] += rlen[b * np + j], ++act_n[j];
+      }
+      if (a < w && (neighbour == kNone || a > neighbour)) neighbour = a;
+      if (b < w && (neighbour == kNone || b > neighbour)) neighbour = b;
+      if (a >= w || b >= w) continue;
+      const std::uint32_t o = t.opposite[k];
+      if (o == kNone) continue;
+      const std::uint32_t c = t.vertex[o];
+      if (c >= w) continue;
+      std::int64_t par[3];
+      for (int x = 0; x < 3; ++x)
+        par[x] = std::int64_t{q[a][x]} + std::int64_t{q[b][x]} - std::int64_t{q[c][x]};
+      for (std::size_t j = 0; j < np; ++j) {
+        if (stopped[j] || predictors[j] == Predictor::kDelta) continue;
+        for (int x = 0; x < 3; ++x) sum[j][x] += par[x];
+        ++count[j];
+        stopped[j] = predictors[j] == Predictor::kParallelogram;
+      }
+    }
+    for (std::size_t j = 0; j < np; ++j) {
+      activity[j] = act_n[j] ? (act_sum[j] + act_n[j] / 2) / act_n[j]
+                             : (w > 0 ? rlen[(w - 1) * np + j] : 0);
+      QPoint p{0, 0, 0};
+      if (count[j] > 0) {
+        for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[j][x], count[j], top);
+      } else {
+        const std::uint32_t from = neighbour == kNone && w > 0 ? w - 1 : neighbour;
+        if (from != kNone) p = q[from];
+      }
+      ResidualModels& m = models[j];
+      for (unsigned x = 0; x < 3; ++x) {
+        const std::int64_t r = std::int64_t{q[w][x]} - std::int64_t{p[x]};
+        const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
+        const unsigned len = static_cast<unsigned>(std::bit_width(z));
+        rans[j].encode(m.length[context(x, count[j], prev_len[j], activity[j])], len);
+        if (len >= 2) {
+          const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
+          rans[j].encode(m.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+          raw[j].put(z & ((1u << rb) - 1), rb);
+        }
+        prev_len[j] = len;
+        std::uint8_t& rl = rlen[w * np + j];
+        if (len > rl) rl = static_cast<std::uint8_t>(len);
+      }
+    }
+  }
+}
+
 std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
                            std::uint32_t top) {
   std::int64_t m;
@@ -369,7 +443,8 @@ inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsign
 /// on entry for the writer) receives the grid points in the new order.
 template <class Coder>
 std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& reader,
-                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe) {
+                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                       DegreePlan* plan = nullptr) {
   constexpr unsigned kTop = 2;
   const std::uint32_t nc = t.n_vertices;
   // Everything the traversal asks about a vertex (table numbering) in one record: its grid
@@ -413,8 +488,16 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     if (sx.degree < kTop) ++sx.degree;
     bucket[sx.degree].push_back(x);
     __builtin_prefetch(wedge.data() + sx.first);
+    // The writer reads x's true point when it takes x, usually soon.
+    if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
   };
   unsigned last_rlen = 0;
+  if (plan) {
+    plan->steps.clear();
+    plan->steps.reserve(nc);
+    plan->act.clear();
+    plan->act.reserve(t.vertex.size());
+  }
   for (std::uint32_t i = 0; i < nc; ++i) {
     std::uint32_t v = kNone;
     for (int d = kTop; d >= 0 && v == kNone; --d) {
@@ -445,10 +528,12 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
       const bool da = sa.order != kNone, db = sb.order != kNone;
       if (da) {
         act_sum += sa.rlen, ++act_n;
+        if (plan) plan->act.push_back(sa.order);
         if (neighbour == kNone || sa.order > neighbour_order) neighbour = we->a, neighbour_order = sa.order;
       }
       if (db) {
         act_sum += sb.rlen, ++act_n;
+        if (plan) plan->act.push_back(sb.order);
         if (neighbour == kNone || sb.order > neighbour_order) neighbour = we->b, neighbour_order = sb.order;
       }
       // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
@@ -479,6 +564,13 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     } else {
       if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
       if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
+    }
+    if (plan) {
+      DegreePlan::Step& st = plan->steps.emplace_back();
+      for (int x = 0; x < 3; ++x) st.sum[x] = sum[x], st.ends[x] = ends[x];
+      st.count = count;
+      st.fallback = count == 0 && neighbour != kNone ? slot[neighbour].order : kNone;
+      st.act_begin = static_cast<std::uint32_t>(plan->act.size() - (act_n));
     }
     Slot& sv = slot[v];
     last_rlen = code(reader, v, p, count, activity, sv.q);
@@ -519,15 +611,59 @@ std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size
 std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
                                                    unsigned bits, RansEncoder& rans, BitWriter& raw,
                                                    Predictor predictor, Blend blend,
-                                                   Blend* suggest) {
+                                                   Blend* suggest, DegreePlan* plan) {
   ResidualWriter writer(q, bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
   std::vector<QPoint> reordered;
   BlendProbe probe;
   const bool measure = suggest && !blend.any();
   std::vector<std::uint32_t> seq =
-      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr);
+      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr, plan);
   if (suggest) *suggest = measure ? probe.best() : Blend{};
+  if (plan) {
+    plan->seq = seq;
+    plan->q = std::move(reordered);
+  }
   return seq;
+}
+
+std::vector<std::uint32_t> encode_positions_degree_again(CornerTable& table, const DegreePlan& plan,
+                                                         unsigned bits, RansEncoder& rans,
+                                                         BitWriter& raw, Predictor predictor,
+                                                         Blend blend) {
+  // degree_pass's coding step, replayed: positions are traversal positions here.
+  const std::uint32_t nc = table.n_vertices;
+  ResidualWriter writer(plan.q, bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
+  std::vector<std::uint8_t> rlen(plan.q.size(), 0);
+  unsigned last_rlen = 0;
+  QPoint scratch;
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    const DegreePlan::Step& st = plan.steps[i];
+    const std::uint32_t act_end =
+        i + 1 < nc ? plan.steps[i + 1].act_begin : static_cast<std::uint32_t>(plan.act.size());
+    unsigned act_sum = 0;
+    for (std::uint32_t j = st.act_begin; j < act_end; ++j) act_sum += rlen[plan.act[j]];
+    const unsigned act_n = act_end - st.act_begin;
+    const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
+    QPoint p{0, 0, 0};
+    if (st.count > 0) {
+      const unsigned k = st.count == 1 ? blend.one : blend.many;
+      for (int x = 0; x < 3; ++x)
+        p[x] = k == 0 ? rounded_mean(st.sum[x], st.count, writer.top())
+                      : blended_mean(st.sum[x], st.ends[x], st.count, k, writer.top());
+    } else if (st.fallback != kNone) {
+      p = plan.q[st.fallback];
+    }
+    last_rlen = writer.code(i, p, st.count, activity, scratch.data());
+    rlen[i] = static_cast<std::uint8_t>(last_rlen);
+  }
+  for (std::size_t w = nc; w < plan.q.size(); ++w) {
+    const QPoint p = w > 0 ? plan.q[w - 1] : QPoint{0, 0, 0};
+    last_rlen = writer.code(static_cast<std::uint32_t>(w), p, 0, last_rlen, scratch.data());
+  }
+  std::vector<std::uint32_t> new_id(nc);
+  for (std::uint32_t i = 0; i < nc; ++i) new_id[plan.seq[i]] = i;
+  for (std::uint32_t& v : table.vertex) v = new_id[v];
+  return plan.seq;
 }
 
 }  // namespace geom::codec::detail

@@ -58,6 +58,18 @@ using QPoint = std::array<std::uint32_t, 3>;
 void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsigned bits,
                       Predictor predictor, RansEncoder& rans, BitWriter& raw);
 
+/// Most predictors encode_positions_each codes in one pass.
+inline constexpr std::size_t kMaxEach = 4;
+
+/// encode_positions for several predictors in one pass over the table (the level search
+/// tries them all on one traversal; the corner scan is shared): rans[i] and raw[i] receive
+/// exactly what encode_positions(table, q, bits, predictors[i], ...) would code.
+/// Pre: as encode_positions; rans and raw hold one coder per predictor, at most kMaxEach.
+/// Throws: InvalidArgument when they do not. Complexity: O(V + T) per predictor.
+void encode_positions_each(const CornerTable& table, std::span<const QPoint> q, unsigned bits,
+                           std::span<const Predictor> predictors, std::span<RansEncoder> rans,
+                           std::span<BitWriter> raw);
+
 /// Decode n positions. Throws: DecodeError on truncated data or a value off the grid.
 /// Complexity: O(V + T).
 void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Predictor predictor,
@@ -82,15 +94,40 @@ std::vector<std::uint32_t> decode_positions_degree(
     std::vector<QPoint>& q, Predictor predictor = Predictor::kMultiParallelogramDegree,
     Blend blend = {});
 
+/// What encode_positions_degree's traversal saw, kept so that the same traversal can be
+/// coded again with other blend weights without being repeated (the order and the
+/// parallelogram sums do not depend on the weights; only the residuals do).
+struct DegreePlan {
+  struct Step {
+    std::int64_t sum[3], ends[3];  // parallelogram sums and their shared edges' ends
+    std::uint32_t count;           // parallelograms
+    std::uint32_t fallback;        // without any: position of the predicting vertex, or kNone
+    std::uint32_t act_begin;       // this step's entries in act
+  };
+  std::vector<Step> steps;         // one per table vertex, in traversal order
+  std::vector<std::uint32_t> act;  // traversal positions of each step's taken wedge ends
+  std::vector<std::uint32_t> seq;  // traversal position → old vertex
+  std::vector<QPoint> q;           // grid points in traversal order, isolated vertices last
+};
+
 /// The encoder's side of decode_positions_degree: q in the table's numbering (isolated
 /// vertices last); renumbers the table and returns the old vertex of each new vertex (the
 /// degree_order result), coding exactly what degree_order + encode_positions would.
 /// With `suggest` (and zero blend weights), also measures every weight on the way and
 /// stores the ones that would have given the shortest residuals (zero: pulling would not
-/// help), so a second pass can code with them.
+/// help), so a second pass can code with them. With `plan`, records the traversal for
+/// encode_positions_degree_again.
 std::vector<std::uint32_t> encode_positions_degree(
     CornerTable& table, std::span<const QPoint> q, unsigned bits, RansEncoder& rans,
     BitWriter& raw, Predictor predictor = Predictor::kMultiParallelogramDegree, Blend blend = {},
-    Blend* suggest = nullptr);
+    Blend* suggest = nullptr, DegreePlan* plan = nullptr);
+
+/// encode_positions_degree on the table and points the plan was recorded from (table in
+/// their original numbering), without the traversal: renumbers the table, codes exactly
+/// the same stream, and returns plan.seq. Complexity: O(V + T).
+std::vector<std::uint32_t> encode_positions_degree_again(CornerTable& table, const DegreePlan& plan,
+                                                         unsigned bits, RansEncoder& rans,
+                                                         BitWriter& raw, Predictor predictor,
+                                                         Blend blend);
 
 }  // namespace geom::codec::detail

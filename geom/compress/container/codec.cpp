@@ -10,6 +10,8 @@
 #include <geom/compress/rans.h>
 #include <geom/core/soup.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -44,17 +46,41 @@ struct Streams {
   std::size_t size() const { return rans.size() + raw.size(); }
 };
 
-struct Candidate {
-  Traversal traversal;
-  Predictor predictor;
-  Blend blend;  // with kMultiParallelogramBlend
-  Streams connectivity, geometry;
+/// One traversal's connectivity coding, shared by every candidate coded on it.
+struct Traversed {
+  Traversal traversal = Traversal::kRightFirst;
+  Streams connectivity;
   CornerTable table;
   TraversalOrder order;
   std::vector<std::uint32_t> vertex_order;  // decoded vertex → dense input vertex
+  std::vector<QPoint> q;                    // grid points in vertex_order
 };
 
-/// The configurations a level tries; each level's set contains the previous level's.
+/// A configuration's coding. Only the degree-order predictors renumber the table, so only
+/// they own a table and vertex order; the others read their traversal's (a level tries up
+/// to eight candidates and copying megabytes for each was a fifth of the encode time).
+struct Candidate {
+  const Traversed* base = nullptr;
+  Predictor predictor = Predictor::kDelta;
+  Blend blend;  // with kMultiParallelogramBlend
+  Streams geometry;
+  bool renumbered = false;
+  CornerTable own_table;
+  std::vector<std::uint32_t> own_vertex_order;
+
+  Traversal traversal() const { return base->traversal; }
+  const Streams& connectivity() const { return base->connectivity; }
+  const TraversalOrder& order() const { return base->order; }
+  const CornerTable& table() const { return renumbered ? own_table : base->table; }
+  const std::vector<std::uint32_t>& vertex_order() const {
+    return renumbered ? own_vertex_order : base->vertex_order;
+  }
+};
+
+/// The configurations a level may try; each level's set contains the previous level's.
+/// Below level 9 the left-first traversal codes only the predictor whose right-first stream
+/// was smallest (search()): the predictors rank alike on both traversals, and that rule,
+/// the same at levels 6–8, keeps each level's tried set a superset of the one below.
 std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
   std::vector<std::pair<Traversal, Predictor>> c = {{Traversal::kRightFirst, Predictor::kDelta}};
   if (level >= 1) c.push_back({Traversal::kRightFirst, Predictor::kParallelogram});
@@ -326,12 +352,12 @@ Streams encode_order(const EncodeInput& in, const Candidate& c, const Polygons& 
   BitWriter bw;
   GammaModel vm, fm, rm;
   std::int64_t prev = 0;
-  for (std::uint32_t v : c.vertex_order) {
+  for (std::uint32_t v : c.vertex_order()) {
     vm.encode(re, bw, zigzag(std::int64_t{v} - prev));
     prev = v;
   }
   std::vector<std::uint32_t> decoded_id(nv);
-  for (std::uint32_t i = 0; i < nv; ++i) decoded_id[c.vertex_order[i]] = i;
+  for (std::uint32_t i = 0; i < nv; ++i) decoded_id[c.vertex_order()[i]] = i;
   prev = 0;
   for (std::size_t j = 0; j < polys.size(); ++j) {
     const std::uint32_t f = face_order[j];
@@ -352,7 +378,7 @@ std::vector<std::uint32_t> face_order(const EncodeInput& in, const Candidate& c,
                                       const Polygons& polys) {
   std::vector<std::uint32_t> order(polys.size());
   for (std::size_t j = 0; j < polys.size(); ++j)
-    order[j] = in.flat.triangle_face[c.order.corner_origin[3 * polys.first_triangle[j]] / 3];
+    order[j] = in.flat.triangle_face[c.order().corner_origin[3 * polys.first_triangle[j]] / 3];
   return order;
 }
 
@@ -360,27 +386,28 @@ Tail encode_tail(const EncodeInput& in, const Candidate& c) {
   const std::size_t nv = in.flat.positions.size();
   const Attributes& attributes = in.attributes;
   Tail tail;
-  const Polygons polys = reassemble(c.table, 0);
+  const Polygons polys = reassemble(c.table(), 0);
   tail.face_order = face_order(in, c, polys);
   if (in.options.preserve_order) tail.order = encode_order(in, c, polys, tail.face_order);
 
   // Attributes follow the decoded vertex order on the chosen table.
+  const std::vector<std::uint32_t>& vertex_order = c.vertex_order();
   std::vector<QPoint> qa(nv);
   if (!attributes.normals.empty()) {
     for (std::size_t i = 0; i < nv; ++i)
-      qa[i] = octahedral_quantise(attributes.normals[c.vertex_order[i]], in.options.normal_bits,
-                                  c.vertex_order[i]);
-    encode_attribute(c.table, qa, in.options.normal_bits, tail.normals.rans, tail.normals.raw);
+      qa[i] = octahedral_quantise(attributes.normals[vertex_order[i]], in.options.normal_bits,
+                                  vertex_order[i]);
+    encode_attribute(c.table(), qa, in.options.normal_bits, tail.normals.rans, tail.normals.raw);
   }
   if (!attributes.uvs.empty()) {
     for (std::size_t i = 0; i < nv; ++i) {
-      const TexCoord& t = attributes.uvs[c.vertex_order[i]];
+      const TexCoord& t = attributes.uvs[vertex_order[i]];
       qa[i] = attributes.uv_grid.quantise(Point(t.x(), t.y(), 0.0));
     }
-    encode_attribute(c.table, qa, attributes.uv_grid.bits, tail.uvs.rans, tail.uvs.raw);
+    encode_attribute(c.table(), qa, attributes.uv_grid.bits, tail.uvs.rans, tail.uvs.raw);
   }
-  tail.extension = encode_extension(in.mesh, in.options, in.flat, c.table, c.order.corner_origin,
-                                    c.vertex_order, !attributes.normals.empty(),
+  tail.extension = encode_extension(in.mesh, in.options, in.flat, c.table(), c.order().corner_origin,
+                                    vertex_order, !attributes.normals.empty(),
                                     !attributes.uvs.empty());
   return tail;
 }
@@ -403,7 +430,7 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   std::uint8_t flags = 0;
   if (in.options.preserve_order) flags |= kFlagPreserveOrder;
   if (in.flat.polygons) flags |= kFlagPolygons;
-  if (c.traversal == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
+  if (c.traversal() == Traversal::kLeftFirst) flags |= kFlagLeftFirst;
   if (!attributes.normals.empty()) flags |= kFlagNormals;
   if (!attributes.uvs.empty()) flags |= kFlagTexcoords;
   if (!tail.extension.bytes.empty()) flags |= kFlagExtension;
@@ -418,7 +445,7 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   w.varint(in.flat.n_faces);
   w.varint(in.flat.table.n_triangles());
   w.varint(nv);
-  w.varint(nv - c.table.n_vertices);
+  w.varint(nv - c.table().n_vertices);
   CompressResult result;
   CompressStats& stats = result.stats;
   stats.header_bytes = w.bytes().size();
@@ -429,7 +456,7 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
     write_section(w, s.raw);
     return w.bytes().size() - before;
   };
-  stats.connectivity_bytes = put(c.connectivity);
+  stats.connectivity_bytes = put(c.connectivity());
   stats.geometry_bytes = put(c.geometry);
   if (!attributes.normals.empty()) stats.normal_bytes = put(tail.normals);
   if (!attributes.uvs.empty()) {
@@ -445,7 +472,7 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   stats.step = in.quant.step;
   stats.max_error = in.quant.max_error();
   stats.predictor = static_cast<int>(c.predictor);
-  stats.traversal = static_cast<int>(c.traversal);
+  stats.traversal = static_cast<int>(c.traversal());
   return result;
 }
 
@@ -459,7 +486,9 @@ struct Best {
   ExtensionEncoding empty_extension;  // with empty_tail: codes nothing, names what is dropped
 };
 
-void consider(const EncodeInput& in, Candidate&& c, Best& best) {
+/// Keeps c in best when its whole stream is smaller; c is left holding buffers to reuse.
+/// Returns the size of c's stream.
+std::size_t consider(const EncodeInput& in, Candidate& c, Best& best) {
   Tail tail;
   if (!best.have || !best.empty_tail)
     tail = encode_tail(in, c);
@@ -470,60 +499,97 @@ void consider(const EncodeInput& in, Candidate&& c, Best& best) {
     best.empty_tail = true;
     best.empty_extension = tail.extension;
   }
-  if (best.have && r.bytes.size() >= best.result.bytes.size()) return;
+  const std::size_t size = r.bytes.size();
+  if (best.have && size >= best.result.bytes.size()) return size;
   best.result = std::move(r);
-  best.candidate = std::move(c);
+  std::swap(best.candidate, c);
   best.face_order = std::move(tail.face_order);
   best.have = true;
+  return size;
 }
 
-/// Codes every configuration of the level and keeps the smallest stream in best.
+/// Codes the connectivity with traversal trav into t.
+void traverse(const EncodeInput& in, std::span<const QPoint> q_in,
+              std::span<const std::uint32_t> isolated, Traversal trav, Traversed& t) {
+  t.traversal = trav;
+  RansEncoder re;
+  re.reserve(in.flat.table.vertex.size() / 2);
+  BitWriter bw;
+  encode_connectivity(in.flat.table, in.flat.polygons, trav, re, bw, t.table, t.order);
+  if (!in.flat.table.vertex.empty()) t.connectivity.rans = re.finish();
+  t.connectivity.raw = bw.finish();
+  t.vertex_order = t.order.vertex_origin;
+  t.vertex_order.insert(t.vertex_order.end(), isolated.begin(), isolated.end());
+  t.q.resize(t.vertex_order.size());
+  for (std::size_t i = 0; i < t.q.size(); ++i) t.q[i] = q_in[t.vertex_order[i]];
+}
+
+/// Codes every configuration of the level and keeps the smallest stream in best, which
+/// refers to traversals (they must outlive it).
 void search(const EncodeInput& in, std::span<const QPoint> q_in,
-            std::span<const std::uint32_t> isolated, Best& best) {
+            std::span<const std::uint32_t> isolated, std::array<Traversed, 2>& traversals,
+            Best& best) {
   const std::size_t nv = in.flat.positions.size();
   Blend blend;  // predictor 4's weights, measured on the first traversal
   bool blend_measured = false;
-  std::vector<QPoint> qd(nv);
+  Candidate k;  // scratch: after consider() it holds a losing (or the old best's) buffers
+  RansEncoder re;
+  // Up to six symbols per vertex; reserving once spares the doubling copies per candidate.
+  re.reserve(6 * nv);
+  int slot = 0;
+  Predictor right_best = Predictor::kDelta;  // the predictor of the smallest right-first stream
+  std::size_t right_best_size = std::numeric_limits<std::size_t>::max();
   for (Traversal trav : {Traversal::kRightFirst, Traversal::kLeftFirst}) {
     std::vector<Predictor> preds;
     for (auto [t, p] : configurations(in.options.level))
-      if (t == trav) preds.push_back(p);
+      if (t == trav && (trav == Traversal::kRightFirst || in.options.level >= 9 || p == right_best))
+        preds.push_back(p);
     if (preds.empty()) continue;
-    Candidate c;
-    c.traversal = trav;
-    {
-      RansEncoder re;
-      BitWriter bw;
-      encode_connectivity(in.flat.table, in.flat.polygons, trav, re, bw, c.table, c.order);
-      if (!in.flat.table.vertex.empty()) c.connectivity.rans = re.finish();
-      c.connectivity.raw = bw.finish();
-    }
-    c.vertex_order = c.order.vertex_origin;
-    c.vertex_order.insert(c.vertex_order.end(), isolated.begin(), isolated.end());
-    // Codes the positions with predictor p on this traversal.
-    auto try_predictor = [&](Predictor p, Blend weights, Blend* suggest) {
-      Candidate k;
-      k.traversal = trav;
+    Traversed& c = traversals[slot++];
+    traverse(in, q_in, isolated, trav, c);
+    auto degree = [](Predictor p) {
+      return p == Predictor::kMultiParallelogramDegree || p == Predictor::kMultiParallelogramBlend;
+    };
+    // The predictors on the traversal's own order share one coding pass; each stream is
+    // still considered in level order below, so ties resolve as before.
+    std::vector<Predictor> in_order;
+    for (Predictor p : preds)
+      if (!degree(p)) in_order.push_back(p);
+    std::vector<RansEncoder> each_rans(in_order.size());
+    std::vector<BitWriter> each_raw(in_order.size());
+    for (RansEncoder& r : each_rans) r.reserve(6 * nv);
+    if (!in_order.empty())
+      encode_positions_each(c.table, c.q, in.quant.bits, in_order, each_rans, each_raw);
+    DegreePlan plan;  // the measuring degree pass's traversal, replayed with the weights
+    // Codes the positions with predictor p on this traversal (replaying with `again`).
+    auto try_predictor = [&](Predictor p, Blend weights, Blend* suggest, bool again = false) {
+      k.base = &c;
       k.predictor = p;
       k.blend = weights;
-      k.connectivity = c.connectivity;
-      k.table = c.table;
-      k.order = c.order;
-      k.vertex_order = c.vertex_order;
-      for (std::size_t i = 0; i < nv; ++i) qd[i] = q_in[k.vertex_order[i]];
-      RansEncoder re;
+      re.clear();
       BitWriter bw;
-      if (p == Predictor::kMultiParallelogramDegree || p == Predictor::kMultiParallelogramBlend) {
-        // One fused pass renumbers the table and codes (qd is in the table's numbering).
-        const std::vector<std::uint32_t> seq =
-            encode_positions_degree(k.table, qd, in.quant.bits, re, bw, p, weights, suggest);
-        for (std::size_t i = 0; i < seq.size(); ++i) k.vertex_order[i] = c.vertex_order[seq[i]];
+      k.renumbered = degree(p);
+      if (!k.renumbered) {
+        const std::size_t j = static_cast<std::size_t>(
+            std::find(in_order.begin(), in_order.end(), p) - in_order.begin());
+        k.geometry.rans.clear();
+        if (nv > 0) k.geometry.rans = each_rans[j].finish();
+        k.geometry.raw = each_raw[j].finish();
       } else {
-        encode_positions(k.table, qd, in.quant.bits, p, re, bw);
+        // One fused pass renumbers the table and codes (c.q is in the table's numbering).
+        k.own_table = c.table;
+        k.own_vertex_order = c.vertex_order;
+        const std::vector<std::uint32_t> seq =
+            again ? encode_positions_degree_again(k.own_table, plan, in.quant.bits, re, bw, p, weights)
+                  : encode_positions_degree(k.own_table, c.q, in.quant.bits, re, bw, p, weights,
+                                            suggest, suggest ? &plan : nullptr);
+        for (std::size_t i = 0; i < seq.size(); ++i) k.own_vertex_order[i] = c.vertex_order[seq[i]];
+        k.geometry.rans.clear();
+        if (nv > 0) k.geometry.rans = re.finish();
+        k.geometry.raw = bw.finish();
       }
-      if (nv > 0) k.geometry.rans = re.finish();
-      k.geometry.raw = bw.finish();
-      consider(in, std::move(k), best);
+      const std::size_t size = consider(in, k, best);
+      if (trav == Traversal::kRightFirst && size < right_best_size) right_best_size = size, right_best = p;
     };
     for (Predictor p : preds) {
       if (p != Predictor::kMultiParallelogramBlend) {
@@ -533,7 +599,7 @@ void search(const EncodeInput& in, std::span<const QPoint> q_in,
         // edge centroid would shorten the residuals (irregular, curved scans); if so, try it.
         try_predictor(p, {}, &blend);
         blend_measured = true;
-        if (blend.any()) try_predictor(p, blend, nullptr);
+        if (blend.any()) try_predictor(p, blend, nullptr, true);
       } else {
         try_predictor(p, blend, nullptr);  // the weights suit the mesh, not the traversal
       }
@@ -559,8 +625,9 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   const std::vector<std::uint32_t> isolated = isolated_order(flat.table, q_in);
 
   const EncodeInput in{mesh, options, flat, quant, attributes};
+  std::array<Traversed, 2> traversals;
   Best best;
-  search(in, q_in, isolated, best);
+  search(in, q_in, isolated, traversals, best);
   CompressResult result = std::move(best.result);
   if (options.preserve_order) {
     result.vertex_permutation.resize(nv);
@@ -569,8 +636,8 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     for (std::uint32_t i = 0; i < flat.n_faces; ++i) result.face_permutation[i] = i;
   } else {
     if (best.face_order.empty())
-      best.face_order = face_order(in, best.candidate, reassemble(best.candidate.table, 0));
-    result.vertex_permutation = std::move(best.candidate.vertex_order);
+      best.face_order = face_order(in, best.candidate, reassemble(best.candidate.table(), 0));
+    result.vertex_permutation = best.candidate.vertex_order();
     result.face_permutation = std::move(best.face_order);
   }
   return result;

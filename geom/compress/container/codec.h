@@ -29,7 +29,8 @@ struct CompressOptions {
   /// smallest stream, so a higher level never gives a larger stream: 0 delta prediction;
   /// 1–2 + parallelogram; 3–4 + multi-parallelogram; 5 + multi-parallelogram in degree order
   /// (pulled towards the parallelograms' edge centroid when that measures shorter);
-  /// 6–8 + the left-first traversal (parallelogram, multi, degree); 9 + everything.
+  /// 6–8 + the left-first traversal with the predictor that was smallest right-first;
+  /// 9 + the left-first traversal with every predictor.
   int level = 7;
   /// Keep the input's vertex order, face order and each face's first corner exactly (costs
   /// about log2(n) bits per vertex and face for a random order, much less for a coherent one).
