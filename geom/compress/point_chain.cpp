@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 
@@ -69,6 +71,78 @@ std::vector<std::uint32_t> point_chain(std::span<const QPoint> q, unsigned windo
     current = best;
   }
   return chain;
+}
+
+std::vector<std::uint32_t> nearest_sites(std::span<const QPoint> sites,
+                                         std::span<const QPoint> queries) {
+  std::uint32_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = sites[0][a];
+  for (const QPoint& p : sites)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  std::uint64_t extent = 1;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max<std::uint64_t>(extent, std::uint64_t{hi[a]} - lo[a] + 1);
+  // About two sites a cell; at most 2^8 cells an axis, so the cell table stays small.
+  const auto per_axis =
+      static_cast<std::uint64_t>(std::clamp(std::cbrt(double(sites.size()) / 2.0), 1.0, 256.0));
+  const std::uint64_t cell = (extent + per_axis - 1) / per_axis;
+  std::int64_t dim[3];
+  for (int a = 0; a < 3; ++a)
+    dim[a] = static_cast<std::int64_t>((std::uint64_t{hi[a]} - lo[a]) / cell + 1);
+  auto cell_of = [&](const QPoint& p, int a) {
+    const std::int64_t x = (std::int64_t{p[a]} - std::int64_t{lo[a]}) / std::int64_t(cell);
+    return std::clamp<std::int64_t>(x, 0, dim[a] - 1);  // queries outside the box: the edge
+  };
+  auto index = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return static_cast<std::size_t>((z * dim[1] + y) * dim[0] + x);
+  };
+  // Sites bucketed by cell (counting sort; ascending index within a cell).
+  std::vector<std::uint32_t> start(static_cast<std::size_t>(dim[0] * dim[1] * dim[2]) + 1, 0),
+      in_cell(sites.size());
+  for (const QPoint& p : sites) ++start[index(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)) + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t i = 0; i < sites.size(); ++i)
+      in_cell[fill[index(cell_of(sites[i], 0), cell_of(sites[i], 1), cell_of(sites[i], 2))]++] = i;
+  }
+  std::vector<std::uint32_t> nearest(queries.size());
+  for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+    const QPoint& p = queries[qi];
+    const std::int64_t c[3] = {cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)};
+    std::uint64_t best_d = std::numeric_limits<std::uint64_t>::max();
+    std::uint32_t best = 0;
+    auto visit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const std::size_t k = index(x, y, z);
+      for (std::uint32_t j = start[k]; j < start[k + 1]; ++j) {
+        const std::uint32_t s = in_cell[j];
+        const std::uint64_t d = distance2(p, sites[s]);
+        if (d < best_d || (d == best_d && s < best)) best_d = d, best = s;
+      }
+    };
+    const std::int64_t reach = std::max({dim[0], dim[1], dim[2]});
+    for (std::int64_t r = 0; r <= reach; ++r) {
+      // The cells at Chebyshev distance r from c; a site beyond them is at least r·cell away.
+      for (std::int64_t x = std::max<std::int64_t>(c[0] - r, 0);
+           x <= std::min(c[0] + r, dim[0] - 1); ++x)
+        for (std::int64_t y = std::max<std::int64_t>(c[1] - r, 0);
+             y <= std::min(c[1] + r, dim[1] - 1); ++y) {
+          if (std::abs(x - c[0]) == r || std::abs(y - c[1]) == r) {
+            for (std::int64_t z = std::max<std::int64_t>(c[2] - r, 0);
+                 z <= std::min(c[2] + r, dim[2] - 1); ++z)
+              visit(x, y, z);
+          } else {
+            if (c[2] - r >= 0) visit(x, y, c[2] - r);
+            if (r > 0 && c[2] + r < dim[2]) visit(x, y, c[2] + r);
+          }
+        }
+      const double bound = double(r) * double(cell);
+      if (best_d != std::numeric_limits<std::uint64_t>::max() && double(best_d) <= bound * bound)
+        break;
+    }
+    nearest[qi] = best;
+  }
+  return nearest;
 }
 
 }  // namespace geom::codec::detail

@@ -20,4 +20,12 @@ namespace geom::codec::detail {
 /// Complexity: O(n log n + n · window).
 std::vector<std::uint32_t> point_chain(std::span<const QPoint> q, unsigned window = 32);
 
+/// For each query point, the index of a nearest site (Euclidean; ties: the lowest index):
+/// the anchors of isolated vertices near a scanned surface (predictor 5). Exact, over a
+/// uniform grid of cells holding about two sites each, searched in growing shells.
+/// Pre: sites is not empty. Complexity: O(S + Q · (cells and sites within the answer's
+/// reach)); a query far outside the sites' box visits more cells.
+std::vector<std::uint32_t> nearest_sites(std::span<const QPoint> sites,
+                                         std::span<const QPoint> queries);
+
 }  // namespace geom::codec::detail

@@ -1,5 +1,7 @@
 #include <geom/compress/predict.h>
 
+#include <geom/compress/point_chain.h>
+
 #include <geom/core/huge_pages.h>
 
 #include <algorithm>
@@ -24,12 +26,27 @@ constexpr unsigned kLengthClasses = 12;
 struct ResidualModels {
   std::vector<AdaptiveModel> length;
   std::vector<AdaptiveModel> top;
+  /// kMultiParallelogramSelect's subset masks, one model per number of candidates (2 … 4).
+  std::vector<AdaptiveModel> subset;
   explicit ResidualModels(unsigned n_lengths = 33)
       : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)) {
     top.reserve(3 * 33);
     for (unsigned i = 0; i < 3 * 33; ++i) top.emplace_back(i % 33 <= 2 ? 2 : 4);
+    for (unsigned m = 2; m <= kMaxSelect; ++m) subset.emplace_back((1u << m) - 1);
   }
 };
+
+/// −log2(f / 2^15) for every frequency f ≤ 2^15: what a symbol of frequency f costs, for the
+/// encoder's choices (a table, since the subset search asks for it a dozen times a vertex).
+float symbol_bits(std::uint32_t f) {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(kProbScale + 1);
+    t[0] = float(kProbBits + 1);  // never coded: models keep every frequency ≥ kMinFreq
+    for (std::uint32_t i = 1; i <= kProbScale; ++i) t[i] = float(kProbBits) - std::log2(float(i));
+    return t;
+  }();
+  return table[f];
+}
 
 /// Bits below the leading one that are modelled (the rest are close to uniform).
 inline unsigned modelled_bits(unsigned len) { return len <= 2 ? (len == 2 ? 1 : 0) : 2; }
@@ -215,6 +232,16 @@ class ResidualReader {
       longest = std::max(longest, len);
     }
     return longest;
+  }
+  /// kMultiParallelogramSelect: the subset mask (1 … 2^m − 1) of m candidates.
+  template <class Predict>
+  unsigned choose(std::uint32_t, unsigned m, unsigned, unsigned, Predict&&) {
+    return rans_.decode(m_.subset[m - 2]) + 1;
+  }
+  /// An anchored isolated vertex: advances `at` by the coded gap to its anchor.
+  void anchor(GammaModel& gaps, std::uint64_t& at, std::uint32_t n_connected, std::uint32_t) {
+    at += gaps.decode(rans_, raw_);
+    if (at >= n_connected) fail("isolated vertex anchored beyond the connected vertices");
   }
 
  private:
@@ -419,8 +446,44 @@ class ResidualWriter {
     }
     return longest;
   }
+  /// kMultiParallelogramSelect: codes and returns the subset mask (1 … 2^m − 1) of m
+  /// candidates whose prediction (predict(mask)) codes v in the fewest estimated bits, the
+  /// mask's own symbol included; ties go to the lowest mask.
+  template <class Predict>
+  unsigned choose(std::uint32_t v, unsigned m, unsigned count, unsigned activity,
+                  Predict&& predict) {
+    AdaptiveModel& model = m_.subset[m - 2];
+    unsigned best = 1;
+    float best_bits = 0;
+    for (unsigned mask = 1; mask < (1u << m); ++mask) {
+      const float b =
+          symbol_bits(model.freq(mask - 1)) + estimate(v, predict(mask), count, activity);
+      if (mask == 1 || b < best_bits) best = mask, best_bits = b;
+    }
+    rans_.encode(model, best - 1);
+    return best;
+  }
+  void anchor(GammaModel& gaps, std::uint64_t& at, std::uint32_t, std::uint32_t gap) {
+    gaps.encode(rans_, raw_, gap);
+    at += gap;
+  }
 
  private:
+  /// The bits code() would spend on v against prediction p, at the models' current state
+  /// (the bits below the leading one counted as raw).
+  float estimate(std::uint32_t v, const QPoint& p, unsigned count, unsigned activity) const {
+    float bits = 0;
+    unsigned prev = prev_len_;
+    for (unsigned x = 0; x < 3; ++x) {
+      const std::int64_t r = std::int64_t{q_[v][x]} - std::int64_t{p[x]};
+      const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
+      const unsigned len = static_cast<unsigned>(std::bit_width(z));
+      bits += symbol_bits(m_.length[context(x, count, prev, activity)].freq(len));
+      if (len >= 2) bits += float(len - 1);
+      prev = len;
+    }
+    return bits;
+  }
   ResidualModels m_;
   std::span<const QPoint> q_;
   RansEncoder& rans_;
@@ -444,6 +507,7 @@ inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsign
 template <class Coder>
 std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& reader,
                                        std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                       bool select, bool anchored,
                                        DegreePlan* plan = nullptr) {
   constexpr unsigned kTop = 2;
   const std::uint32_t nc = t.n_vertices;
@@ -520,6 +584,7 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     const Wedge* w_begin = wedge.data() + slot[v].first;
     const Wedge* w_end = wedge.data() + slot[v + 1].first;
     std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
+    std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
     unsigned count = 0, act_sum = 0, act_n = 0;
     std::uint32_t neighbour = kNone, neighbour_order = 0;
     for (const Wedge* we = w_begin; we != w_end; ++we) {
@@ -547,12 +612,55 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
         const std::int64_t ab = std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]};
         sum[x] += ab - std::int64_t{sc.q[x]};
         ends[x] += ab;  // predictor 4's centroid: the parallelograms' shared edges
+        if (select && count < kMaxSelect) {
+          cand[count][x] = ab - std::int64_t{sc.q[x]};
+          cand_ends[count][x] = ab;
+        }
       }
       ++count;
     }
     const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
     QPoint p{0, 0, 0};
-    if (count > 0) {
+    if (select && count >= 2) {
+      const unsigned m = std::min(count, kMaxSelect);
+      // Candidates ranked by |2c − a − b|², how far their opposite vertex c lies from the
+      // middle of their edge ab (stable; |2c − a − b| < 2^31 on a 30-bit grid, so the sum
+      // fits): on a quad grid the parallelogram across a quad's diagonal (c nearer the
+      // middle) predicts the quad's fourth corner, the one across a grid edge a diagonal
+      // neighbour instead, so the masks' probabilities concentrate on the low bits.
+      std::uint64_t spread[kMaxSelect];
+      for (unsigned j = 0; j < m; ++j) {
+        spread[j] = 0;
+        for (int x = 0; x < 3; ++x) {
+          const std::int64_t d = cand_ends[j][x] - 2 * cand[j][x];
+          spread[j] += static_cast<std::uint64_t>(d * d);
+        }
+      }
+      for (unsigned j = 1; j < m; ++j)
+        for (unsigned i = j; i > 0 && spread[i] < spread[i - 1]; --i) {
+          std::swap(spread[i], spread[i - 1]);
+          for (int x = 0; x < 3; ++x) {
+            std::swap(cand[i][x], cand[i - 1][x]);
+            std::swap(cand_ends[i][x], cand_ends[i - 1][x]);
+          }
+        }
+      auto predict_subset = [&](unsigned mask) {
+        std::int64_t s[3] = {0, 0, 0}, e[3] = {0, 0, 0};
+        unsigned used = 0;
+        for (unsigned j = 0; j < m; ++j) {
+          if (!((mask >> j) & 1u)) continue;
+          for (int x = 0; x < 3; ++x) s[x] += cand[j][x], e[x] += cand_ends[j][x];
+          ++used;
+        }
+        const unsigned k = used == 1 ? blend.one : blend.many;
+        QPoint r;
+        for (int x = 0; x < 3; ++x)
+          r[x] = k == 0 ? rounded_mean(s[x], used, reader.top())
+                        : blended_mean(s[x], e[x], used, k, reader.top());
+        return r;
+      };
+      p = predict_subset(reader.choose(v, m, count, activity, predict_subset));
+    } else if (count > 0) {
       const unsigned k = count == 1 ? blend.one : blend.many;
       if (k == 0) {
         for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[x], count, reader.top());
@@ -590,6 +698,38 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
     for (std::uint32_t& v : t.vertex) v = new_id[v];
   }
+  if (anchored && n > nc) {
+    // Each isolated vertex is predicted by its anchor, a connected vertex (the nearest, in
+    // the encoder), coded as the gap from the previous one: scan points left out of the
+    // surface lie close to it. The encoder codes them in anchor order and says so in seq.
+    std::vector<std::uint32_t> anchors, by_anchor;
+    if constexpr (requires { reader.truth(0); }) {
+      std::vector<QPoint> points(n - nc);
+      for (std::size_t w = nc; w < n; ++w)
+        points[w - nc] = reader.truth(static_cast<std::uint32_t>(w));
+      anchors = nearest_sites(std::span<const QPoint>(q.data(), nc), points);
+      by_anchor.resize(points.size());
+      for (std::uint32_t k = 0; k < by_anchor.size(); ++k) by_anchor[k] = k;
+      std::stable_sort(by_anchor.begin(), by_anchor.end(),
+                       [&](std::uint32_t a, std::uint32_t b) { return anchors[a] < anchors[b]; });
+    }
+    GammaModel gaps;
+    std::uint64_t at = 0;
+    seq.reserve(n);
+    for (std::size_t w = nc; w < n; ++w) {
+      std::uint32_t src = static_cast<std::uint32_t>(w), gap = 0;
+      if (!by_anchor.empty()) {
+        const std::uint32_t k = by_anchor[w - nc];
+        src = nc + k;
+        gap = static_cast<std::uint32_t>(anchors[k] - at);
+      }
+      reader.anchor(gaps, at, nc, gap);
+      const QPoint p = q[static_cast<std::size_t>(at)];
+      last_rlen = code(reader, src, p, 0, last_rlen, q[w].data());
+      seq.push_back(src);
+    }
+    return seq;
+  }
   // Isolated vertices follow in stream order, predicted from the previous vertex.
   for (std::size_t w = nc; w < n; ++w) {
     const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
@@ -603,21 +743,26 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
 std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
                                                    RansDecoder& rans, BitReader& raw,
                                                    std::vector<QPoint>& q, Predictor predictor,
-                                                   Blend blend) {
-  ResidualReader reader(bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
-  return degree_pass(table, n, reader, q, blend, nullptr);
+                                                   Blend blend, bool anchor_isolated) {
+  const bool select = predictor == Predictor::kMultiParallelogramSelect;
+  ResidualReader reader(bits, rans, raw,
+                        select || predictor == Predictor::kMultiParallelogramBlend);
+  return degree_pass(table, n, reader, q, blend, nullptr, select, select && anchor_isolated);
 }
 
 std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
                                                    unsigned bits, RansEncoder& rans, BitWriter& raw,
-                                                   Predictor predictor, Blend blend,
-                                                   Blend* suggest, DegreePlan* plan) {
-  ResidualWriter writer(q, bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
+                                                   Predictor predictor, Blend blend, Blend* suggest,
+                                                   bool anchor_isolated, DegreePlan* plan) {
+  const bool select = predictor == Predictor::kMultiParallelogramSelect;
+  ResidualWriter writer(q, bits, rans, raw,
+                        select || predictor == Predictor::kMultiParallelogramBlend);
   std::vector<QPoint> reordered;
   BlendProbe probe;
   const bool measure = suggest && !blend.any();
   std::vector<std::uint32_t> seq =
-      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr, plan);
+      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr, select,
+                  select && anchor_isolated, plan);
   if (suggest) *suggest = measure ? probe.best() : Blend{};
   if (plan) {
     plan->seq = seq;

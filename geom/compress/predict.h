@@ -19,9 +19,9 @@
 namespace geom::codec::detail {
 
 enum class Predictor : std::uint8_t {
-  kDelta = 0,                ///< the latest decoded neighbour
-  kParallelogram = 1,        ///< the first complete parallelogram
-  kMultiParallelogram = 2,   ///< the rounded mean of every complete parallelogram
+  kDelta = 0,               ///< the latest decoded neighbour
+  kParallelogram = 1,       ///< the first complete parallelogram
+  kMultiParallelogram = 2,  ///< the rounded mean of every complete parallelogram
   /// Multi-parallelogram with vertices renumbered by degree_order(): each vertex is coded
   /// when the most triangles around it are complete, so more parallelograms are averaged.
   kMultiParallelogramDegree = 3,
@@ -30,7 +30,16 @@ enum class Predictor : std::uint8_t {
   /// an irregular or curved scan a parallelogram overshoots across uneven triangles, and
   /// the edge midpoints undershoot. Residual lengths use a bits + 2 symbol alphabet.
   kMultiParallelogramBlend = 4,
+  /// kMultiParallelogramBlend where a vertex with two or more parallelograms also codes
+  /// which of its first kMaxSelect parallelograms the prediction averages (a nonempty
+  /// subset, chosen by the encoder for the cheapest residuals): on a noisy scan one of two
+  /// parallelograms is often much closer than their mean, and the choice costs about a bit.
+  kMultiParallelogramSelect = 5,
 };
+
+/// How many parallelograms (the first, in corner order) kMultiParallelogramSelect chooses
+/// among; later ones are not used.
+inline constexpr unsigned kMaxSelect = 4;
 
 /// The pull of kMultiParallelogramBlend, in sixteenths, for vertices with one parallelogram
 /// and with several. Stored as one byte: one | many << 4.
@@ -87,12 +96,16 @@ void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Pr
 std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
                            std::uint32_t top);
 
-/// predictor is kMultiParallelogramDegree or kMultiParallelogramBlend (whose predictions
-/// with parallelograms are pulled towards their edges' centroid by `blend`; FORMAT.md).
+/// predictor is kMultiParallelogramDegree, kMultiParallelogramBlend (whose predictions
+/// with parallelograms are pulled towards their edges' centroid by `blend`; FORMAT.md) or
+/// kMultiParallelogramSelect (the same, over a coded subset of the parallelograms).
+/// With kMultiParallelogramSelect and anchor_isolated, the isolated vertices are predicted
+/// from anchors (FORMAT.md) and the result also lists them (n entries, identity past the
+/// connected ones). Throws: DecodeError also for an anchor beyond the connected vertices.
 std::vector<std::uint32_t> decode_positions_degree(
     CornerTable& table, std::size_t n, unsigned bits, RansDecoder& rans, BitReader& raw,
     std::vector<QPoint>& q, Predictor predictor = Predictor::kMultiParallelogramDegree,
-    Blend blend = {});
+    Blend blend = {}, bool anchor_isolated = false);
 
 /// What encode_positions_degree's traversal saw, kept so that the same traversal can be
 /// coded again with other blend weights without being repeated (the order and the
@@ -115,12 +128,15 @@ struct DegreePlan {
 /// degree_order result), coding exactly what degree_order + encode_positions would.
 /// With `suggest` (and zero blend weights), also measures every weight on the way and
 /// stores the ones that would have given the shortest residuals (zero: pulling would not
-/// help), so a second pass can code with them. With `plan`, records the traversal for
-/// encode_positions_degree_again.
+/// help), so a second pass can code with them. With kMultiParallelogramSelect and
+/// anchor_isolated (Pre: the table has a vertex), each isolated vertex is predicted from its
+/// nearest connected vertex and they are coded in anchor order: the result then has
+/// q.size() entries, the isolated vertices' indices in q following the connected ones.
+/// With `plan` (predictor 4 only), records the traversal for encode_positions_degree_again.
 std::vector<std::uint32_t> encode_positions_degree(
-    CornerTable& table, std::span<const QPoint> q, unsigned bits, RansEncoder& rans,
-    BitWriter& raw, Predictor predictor = Predictor::kMultiParallelogramDegree, Blend blend = {},
-    Blend* suggest = nullptr, DegreePlan* plan = nullptr);
+    CornerTable& table, std::span<const QPoint> q, unsigned bits, RansEncoder& rans, BitWriter& raw,
+    Predictor predictor = Predictor::kMultiParallelogramDegree, Blend blend = {},
+    Blend* suggest = nullptr, bool anchor_isolated = false, DegreePlan* plan = nullptr);
 
 /// encode_positions_degree on the table and points the plan was recorded from (table in
 /// their original numbering), without the traversal: renumbers the table, codes exactly

@@ -29,8 +29,9 @@ struct CompressOptions {
   /// smallest stream, so a higher level never gives a larger stream: 0 delta prediction;
   /// 1–2 + parallelogram; 3–4 + multi-parallelogram; 5 + multi-parallelogram in degree order
   /// (pulled towards the parallelograms' edge centroid when that measures shorter);
-  /// 6–8 + the left-first traversal with the predictor that was smallest right-first;
-  /// 9 + the left-first traversal with every predictor.
+  /// 6–8 + a coded choice among each vertex's parallelograms (predictor 5; isolated vertices
+  /// also tried anchored at their nearest vertex) and the left-first traversal with the
+  /// predictor that was smallest right-first; 9 + the left-first traversal with every predictor.
   int level = 7;
   /// Keep the input's vertex order, face order and each face's first corner exactly (costs
   /// about log2(n) bits per vertex and face for a random order, much less for a coherent one).
@@ -103,7 +104,7 @@ struct CompressResult {
 /// attribute_bits above 30, non-finite positions, normals, texture coordinates or
 /// attribute values (naming the vertex, or the halfedge of a corner), or a polygon
 /// that cannot be fanned without repeating an existing edge.
-/// Complexity: O(V + F) per configuration tried (1 at level 0, up to 8 at level 9).
+/// Complexity: O(V + F) per configuration tried (1 at level 0, up to 14 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
 
 struct DecompressResult {
