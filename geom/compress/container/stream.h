@@ -1,0 +1,48 @@
+#pragma once
+// The .gmc stream's constants and the small helpers that its writer (encode.cpp) and its
+// reader (codec.cpp) share. FORMAT.md is the specification.
+
+#include <geom/compress/predict.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace geom::codec::detail {
+
+inline constexpr std::uint8_t kMagic[4] = {'G', 'M', 'C', 0x1A};
+// Version 2 adds the attribute flags and fields; streams without attributes stay version 1,
+// byte for byte as before, so older decoders keep reading them.
+inline constexpr std::uint8_t kVersion = 1;
+inline constexpr std::uint8_t kVersionAttributes = 2;
+inline constexpr std::uint8_t kFlagPreserveOrder = 1;
+inline constexpr std::uint8_t kFlagPolygons = 2;
+inline constexpr std::uint8_t kFlagLeftFirst = 4;
+inline constexpr std::uint8_t kFlagNormals = 8;
+inline constexpr std::uint8_t kFlagTexcoords = 16;
+// Per-corner and generic attributes, a block after every other section (extension.h).
+inline constexpr std::uint8_t kFlagExtension = 128;
+inline constexpr std::uint8_t kKnownFlags = 31 | kFlagExtension;
+// Conforming streams cannot hold more than this many triangles per connectivity byte or
+// vertices per geometry byte (kMinFreq bounds every symbol's cost from below; FORMAT.md).
+inline constexpr std::uint64_t kMaxTrianglesPerByte = 2048;
+inline constexpr std::uint64_t kMaxVerticesPerByte = 64;
+
+struct Streams {
+  std::vector<std::uint8_t> rans, raw;
+  std::size_t size() const { return rans.size() + raw.size(); }
+};
+
+inline std::uint32_t zigzag(std::int64_t d) {
+  return static_cast<std::uint32_t>(d >= 0 ? 2 * d : -2 * d - 1);
+}
+inline std::int64_t unzigzag(std::uint32_t z) {
+  return (z & 1u) ? -static_cast<std::int64_t>(z >> 1) - 1 : static_cast<std::int64_t>(z >> 1);
+}
+
+/// Predictors 4 and 5 weigh the blend byte and have bits + 2 length symbols.
+inline bool blended(Predictor p) {
+  return p == Predictor::kMultiParallelogramBlend || p == Predictor::kMultiParallelogramSelect;
+}
+
+}  // namespace geom::codec::detail
