@@ -93,37 +93,98 @@ test::Arrays irregular_torus(int nu, int nv, unsigned seed) {
   return a;
 }
 
-TEST(CompressBlend, RoundTripsExactlyWithEveryWeight) {
-  const FlatMesh flat = flatten(test::holey_slab(2, true).shuffled(4).build());
+/// The holey slab's corner table (its input shuffled by shuffle_seed) and random grid points
+/// for it, n_isolated isolated vertices last; one coordinate in edge_one_in sits on the
+/// grid's edge, so clamped predictions are exercised.
+struct DegreeCase {
+  CornerTable table;
+  std::vector<QPoint> q;
+  unsigned bits;
+};
+
+DegreeCase random_degree_case(unsigned shuffle_seed, unsigned rng_seed, unsigned bits,
+                              std::size_t n_isolated, unsigned edge_one_in) {
+  const FlatMesh flat = flatten(test::holey_slab(2, true).shuffled(shuffle_seed).build());
   RansEncoder conn_rans;
   BitWriter conn_raw;
-  CornerTable table;
+  DegreeCase c{{}, {}, bits};
   TraversalOrder order;
-  encode_connectivity(flat.table, flat.polygons, Traversal::kRightFirst, conn_rans, conn_raw, table,
-                      order);
-  std::mt19937 rng(8);
-  const unsigned bits = 12;
+  encode_connectivity(flat.table, flat.polygons, Traversal::kRightFirst, conn_rans, conn_raw,
+                      c.table, order);
+  std::mt19937 rng(rng_seed);
   const std::uint32_t top = (1u << bits) - 1;
-  std::vector<QPoint> q(table.n_vertices + 2);  // two isolated vertices last
-  for (QPoint& p : q)
-    for (auto& x : p) x = rng() % 4 == 0 ? (rng() % 2 ? top : 0) : rng() % (top + 1);
-  for (const Blend blend : {Blend{0, 0}, Blend{1, 15}, Blend{15, 1}, Blend{6, 5}}) {
-    CornerTable enc_table = table, dec_table = table;
-    RansEncoder re;
-    BitWriter bw;
-    const auto seq = encode_positions_degree(enc_table, q, bits, re, bw,
-                                             Predictor::kMultiParallelogramBlend, blend);
-    const std::vector<std::uint8_t> rans = re.finish(), raw = bw.finish();
-    RansDecoder rd(rans, 0);
-    BitReader br(raw, 0);
-    std::vector<QPoint> decoded;
-    EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded,
-                                      Predictor::kMultiParallelogramBlend, blend),
-              seq);
-    rd.finish();
-    for (std::size_t i = 0; i < q.size(); ++i)
-      ASSERT_EQ(decoded[i], q[i < seq.size() ? seq[i] : i]) << "vertex " << i;
+  c.q.resize(c.table.n_vertices + n_isolated);
+  for (QPoint& p : c.q)
+    for (auto& x : p) x = rng() % edge_one_in == 0 ? (rng() % 2 ? top : 0) : rng() % (top + 1);
+  return c;
+}
+
+/// Codes c's points with the fused degree pass and decodes them: the same traversal, the
+/// same points.
+void expect_degree_round_trip(const DegreeCase& c, Predictor predictor, Blend blend,
+                              bool anchored = false) {
+  CornerTable enc_table = c.table, dec_table = c.table;
+  RansEncoder re;
+  BitWriter bw;
+  const auto seq = encode_positions_degree(enc_table, c.q, c.bits, re, bw, predictor, blend,
+                                           nullptr, anchored);
+  ASSERT_EQ(seq.size(), anchored ? c.q.size() : c.table.n_vertices);
+  const std::vector<std::uint8_t> rans = re.finish(), raw = bw.finish();
+  RansDecoder rd(rans, 0);
+  BitReader br(raw, 0);
+  std::vector<QPoint> decoded;
+  const auto dec_seq =
+      decode_positions_degree(dec_table, c.q.size(), c.bits, rd, br, decoded, predictor, blend,
+                              anchored);
+  ASSERT_EQ(dec_seq.size(), seq.size());
+  EXPECT_TRUE(std::equal(seq.begin(), seq.begin() + c.table.n_vertices, dec_seq.begin()));
+  rd.finish();
+  for (std::size_t i = 0; i < c.q.size(); ++i)
+    ASSERT_EQ(decoded[i], c.q[i < seq.size() ? seq[i] : i]) << "vertex " << i;
+}
+
+/// Round trips m at level 7, reordered and order-preserving: every vertex comes back (the
+/// n_isolated isolated ones isolated) within the quantisation bound.
+void expect_isolated_round_trip(const SurfaceMesh& m, std::size_t n_isolated) {
+  for (bool preserve : {false, true}) {
+    const CompressResult c = compress(m, {.level = 7, .preserve_order = preserve});
+    const DecompressResult d = decompress(c.bytes);
+    ASSERT_EQ(d.mesh.n_vertices(), m.n_vertices());
+    std::size_t i = 0, isolated = 0;
+    for (Vertex v : d.mesh.vertices()) {
+      const Vertex orig(c.vertex_permutation[i++]);
+      if (preserve) {
+        ASSERT_EQ(orig, v);
+      }
+      ASSERT_EQ(d.mesh.is_isolated(v), m.is_isolated(orig)) << "vertex " << v.idx();
+      isolated += d.mesh.is_isolated(v);
+      ASSERT_LE((d.mesh.position(v) - m.position(orig)).cwiseAbs().maxCoeff(),
+                c.stats.max_error * (1 + 1e-9))
+          << "vertex " << v.idx();
+    }
+    EXPECT_EQ(isolated, n_isolated);
   }
+}
+
+/// Flips one random bit of the stream per trial: decoding must throw DecodeError or give a
+/// valid mesh, never crash or read out of bounds (ASan runs these too).
+void expect_flips_throw_or_decode_valid(const std::vector<std::uint8_t>& bytes, unsigned seed,
+                                        int trials) {
+  std::mt19937 rng(seed);
+  for (int trial = 0; trial < trials; ++trial) {
+    std::vector<std::uint8_t> bad = bytes;
+    bad[rng() % bad.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+    try {
+      EXPECT_TRUE(validate(decompress(bad).mesh).ok());
+    } catch (const DecodeError&) {
+    }
+  }
+}
+
+TEST(CompressBlend, RoundTripsExactlyWithEveryWeight) {
+  const DegreeCase c = random_degree_case(4, 8, 12, 2, 4);  // two isolated vertices last
+  for (const Blend blend : {Blend{0, 0}, Blend{1, 15}, Blend{15, 1}, Blend{6, 5}})
+    expect_degree_round_trip(c, Predictor::kMultiParallelogramBlend, blend);
 }
 
 TEST(CompressBlend, ChosenOnIrregularSamplingAndSmaller) {
@@ -160,15 +221,7 @@ TEST(CompressBlend, DamagedStreamsThrowOrDecodeValidMeshes) {
   EXPECT_NE(c.bytes[40], 0);  // the blend byte (no attribute fields before it): weights in use
   for (std::size_t len = 0; len < c.bytes.size(); ++len)
     EXPECT_THROW(decompress(std::span(c.bytes.data(), len)), DecodeError) << len;
-  std::mt19937 rng(41);
-  for (int trial = 0; trial < 1500; ++trial) {
-    std::vector<std::uint8_t> bad = c.bytes;
-    bad[rng() % bad.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
-    try {
-      EXPECT_TRUE(validate(decompress(bad).mesh).ok());
-    } catch (const DecodeError&) {
-    }
-  }
+  expect_flips_throw_or_decode_valid(c.bytes, 41, 1500);
 }
 
 TEST(CompressBlend, FlatGridAtTheCheapestResidualsDecodes) {
@@ -188,49 +241,19 @@ TEST(CompressBlend, FlatGridAtTheCheapestResidualsDecodes) {
 /// at the grid's edges included) with and without blend weights, isolated vertices chained
 /// or anchored, decode to the input.
 TEST(CompressSelect, RoundTripsExactlyWithAndWithoutWeights) {
-  const FlatMesh flat = flatten(test::holey_slab(2, true).shuffled(5).build());
-  RansEncoder conn_rans;
-  BitWriter conn_raw;
-  CornerTable table;
-  TraversalOrder order;
-  encode_connectivity(flat.table, flat.polygons, Traversal::kRightFirst, conn_rans, conn_raw, table,
-                      order);
-  std::mt19937 rng(9);
-  const unsigned bits = 10;
-  const std::uint32_t top = (1u << bits) - 1;
-  std::vector<QPoint> q(table.n_vertices + 9);  // nine isolated vertices last
-  for (QPoint& p : q)
-    for (auto& x : p) x = rng() % 5 == 0 ? (rng() % 2 ? top : 0) : rng() % (top + 1);
+  const DegreeCase c = random_degree_case(5, 9, 10, 9, 5);  // nine isolated vertices last
   for (const bool anchored : {false, true})
-    for (const Blend blend : {Blend{0, 0}, Blend{3, 9}}) {
-      CornerTable enc_table = table, dec_table = table;
-      RansEncoder re;
-      BitWriter bw;
-      const auto seq =
-          encode_positions_degree(enc_table, q, bits, re, bw, Predictor::kMultiParallelogramSelect,
-                                  blend, nullptr, anchored);
-      ASSERT_EQ(seq.size(), anchored ? q.size() : table.n_vertices);
-      const std::vector<std::uint8_t> rans = re.finish(), raw = bw.finish();
-      RansDecoder rd(rans, 0);
-      BitReader br(raw, 0);
-      std::vector<QPoint> decoded;
-      const auto dec_seq =
-          decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded,
-                                  Predictor::kMultiParallelogramSelect, blend, anchored);
-      ASSERT_EQ(dec_seq.size(), seq.size());
-      EXPECT_TRUE(std::equal(seq.begin(), seq.begin() + table.n_vertices, dec_seq.begin()));
-      rd.finish();
-      for (std::size_t i = 0; i < q.size(); ++i)
-        ASSERT_EQ(decoded[i], q[i < seq.size() ? seq[i] : i]) << "vertex " << i;
-    }
+    for (const Blend blend : {Blend{0, 0}, Blend{3, 9}})
+      expect_degree_round_trip(c, Predictor::kMultiParallelogramSelect, blend, anchored);
 }
 
 TEST(NearestSites, AgreesWithBruteForce) {
   std::mt19937 rng(13);
   for (const unsigned n_sites : {1u, 7u, 500u}) {
     std::vector<QPoint> sites(n_sites), queries(300);
-    for (QPoint& p : sites) p = {rng() % 1000, rng() % 50, 400 + rng() % 300};
-    for (QPoint& p : queries) p = {rng() % 1300, rng() % 1300, rng() % 1300};  // some outside
+    auto below = [&](std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); };
+    for (QPoint& p : sites) p = {below(1000), below(50), 400 + below(300)};
+    for (QPoint& p : queries) p = {below(1300), below(1300), below(1300)};  // some outside
     sites.push_back(sites.front());  // a tie: the lower index wins
     const std::vector<std::uint32_t> got = nearest_sites(sites, queries);
     for (std::size_t i = 0; i < queries.size(); ++i) {
@@ -270,32 +293,10 @@ TEST(CompressSelect, AnchorsIsolatedPointsNearTheSurface) {
   ASSERT_EQ(c.stats.predictor, int(Predictor::kMultiParallelogramSelect));
   EXPECT_EQ(c.bytes[41], 1);  // after the blend byte: isolated vertices anchored
   EXPECT_LT(c.bytes.size(), compress(m, {.level = 5}).bytes.size());
-  for (bool preserve : {false, true}) {
-    const CompressResult cp = compress(m, {.level = 7, .preserve_order = preserve});
-    const DecompressResult d = decompress(cp.bytes);
-    ASSERT_EQ(d.mesh.n_vertices(), m.n_vertices());
-    std::size_t i = 0, isolated = 0;
-    for (Vertex v : d.mesh.vertices()) {
-      const Vertex orig(cp.vertex_permutation[i++]);
-      if (preserve) ASSERT_EQ(orig, v);
-      ASSERT_EQ(d.mesh.is_isolated(v), m.is_isolated(orig)) << "vertex " << v.idx();
-      isolated += d.mesh.is_isolated(v);
-      ASSERT_LE((d.mesh.position(v) - m.position(orig)).cwiseAbs().maxCoeff(),
-                cp.stats.max_error * (1 + 1e-9));
-    }
-    EXPECT_EQ(isolated, n);
-  }
+  expect_isolated_round_trip(m, n);
   // An anchor gap past the connected vertices is an error, not a read out of bounds: the
   // damaged-stream sweep below must only ever throw DecodeError or decode a valid mesh.
-  std::mt19937 rng(17);
-  for (int trial = 0; trial < 300; ++trial) {
-    std::vector<std::uint8_t> bad = c.bytes;
-    bad[rng() % bad.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
-    try {
-      EXPECT_TRUE(validate(decompress(bad).mesh).ok());
-    } catch (const DecodeError&) {
-    }
-  }
+  expect_flips_throw_or_decode_valid(c.bytes, 17, 300);
 }
 
 /// A torus grid whose quads are split along a random diagonal each, as a range image's
@@ -361,24 +362,7 @@ TEST(CompressIsolated, ChainedCheaplyAndDecodedWithinTheBound) {
   const unsigned n = 3000;
   const test::Arrays a = torus_with_isolated(n, 6);
   const SurfaceMesh m = a.build();
-  for (bool preserve : {false, true}) {
-    const CompressResult c = compress(m, {.preserve_order = preserve});
-    const DecompressResult d = decompress(c.bytes);
-    ASSERT_EQ(d.mesh.n_vertices(), m.n_vertices());
-    std::size_t i = 0, isolated = 0;
-    for (Vertex v : d.mesh.vertices()) {
-      const Vertex orig(c.vertex_permutation[i++]);
-      if (preserve) {
-        ASSERT_EQ(orig, v);
-      }
-      ASSERT_EQ(d.mesh.is_isolated(v), m.is_isolated(orig)) << "vertex " << v.idx();
-      isolated += d.mesh.is_isolated(v);
-      ASSERT_LE((d.mesh.position(v) - m.position(orig)).cwiseAbs().maxCoeff(),
-                c.stats.max_error * (1 + 1e-9))
-          << "vertex " << v.idx();
-    }
-    EXPECT_EQ(isolated, n);
-  }
+  expect_isolated_round_trip(m, n);
   // The isolated points alone, each coded as the delta from the one before: in their random
   // input order about 33 bits a point on this 11-bit grid, chained about 22.
   std::vector<Point> cloud(a.points.end() - n, a.points.end());
