@@ -29,6 +29,7 @@
 /// decider", IEEE Visualization 1991. Lewiner et al., "Efficient implementation of marching
 /// cubes' cases with topological guarantees", JGT 2003 (the topology goal).
 
+#include <geom/core/from_triangles.h>  // mesh_from_triangles, to link the output
 #include <geom/core/surface_mesh.h>
 #include <geom/isosurface/grid.h>
 
@@ -96,13 +97,5 @@ IsoSurface marching_cubes_arrays(const GridView& grid, const MarchingCubesOption
 /// Throws: as marching_cubes_arrays.
 /// Complexity: marching_cubes_arrays plus O(V + F) to link the halfedges.
 MarchingCubesResult marching_cubes(const GridView& grid, const MarchingCubesOptions& options = {});
-
-/// Build a SurfaceMesh from triangles whose edges are each used at most once per direction
-/// and whose vertices each have one fan (what marching_cubes_arrays guarantees).
-/// Throws: TopologyError naming the triangle when that does not hold; InvalidArgument for an
-/// index out of range.
-/// Complexity: O(V + F · valence).
-SurfaceMesh mesh_from_triangles(const std::vector<Point>& positions,
-                                const std::vector<std::array<std::uint32_t, 3>>& triangles);
 
 }  // namespace geom

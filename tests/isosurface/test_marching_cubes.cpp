@@ -417,15 +417,3 @@ TEST(MarchingCubes, MeshOutputIsValidAndMatchesArrays) {
   EXPECT_TRUE(rep2.ok()) << rep2.to_string();
 }
 
-TEST(MeshFromTriangles, RejectsBrokenInput) {
-  std::vector<Point> p(4, Point::Zero());
-  p[1] = Point(1, 0, 0);
-  p[2] = Point(0, 1, 0);
-  p[3] = Point(0, 0, 1);
-  EXPECT_THROW(mesh_from_triangles(p, {{0, 1, 7}}), InvalidArgument);
-  EXPECT_THROW(mesh_from_triangles(p, {{0, 1, 2}, {0, 1, 3}}), TopologyError);
-  EXPECT_THROW(mesh_from_triangles(p, {{0, 0, 2}}), TopologyError);
-  SurfaceMesh tet = mesh_from_triangles(p, {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}});
-  EXPECT_EQ(tet.n_edges(), 6u);
-  EXPECT_TRUE(validate(tet).ok());
-}
