@@ -1,3 +1,4 @@
+#include <geom/core/from_triangles.h>
 #include <geom/lod/collapse.h>
 #include <geom/lod/progressive_mesh.h>
 
@@ -139,14 +140,7 @@ void ProgressiveMesh::set_level(std::size_t vertices) {
   else coarsen_to(vertices);
 }
 
-SurfaceMesh ProgressiveMesh::mesh() const {
-  SurfaceMesh m;
-  m.reserve(n_vertices_, n_faces_ * 3 / 2 + 3, n_faces_);
-  for (std::size_t v = 0; v < n_vertices_; ++v) m.add_vertex(positions_[v]);
-  for (std::size_t f = 0; f < n_faces_; ++f)
-    m.add_triangle(Vertex(faces_[f][0]), Vertex(faces_[f][1]), Vertex(faces_[f][2]));
-  return m;
-}
+SurfaceMesh ProgressiveMesh::mesh() const { return mesh_from_triangles(positions(), faces()); }
 
 Geomorph ProgressiveMesh::geomorph(std::size_t coarse, std::size_t fine) {
   if (coarse > fine || coarse < base_vertices_ || fine > max_vertices())
