@@ -113,7 +113,10 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   vd_.reserve(n);
   advise_huge_pages(vd_.data(), n * sizeof(VertexData));
   vd_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) vd_[i].p = (model_[i] - center_) / scale_;
+  // The sweeps over all triangles below read a compact copy of the positions: through vd_,
+  // each corner would bring in a 128-byte record for 24 bytes.
+  std::vector<Point> pos(n);
+  for (std::size_t i = 0; i < n; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
 
   stamp_.assign(n, 0);
   queue_.watch(stamp_.data());
@@ -142,15 +145,19 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   // far it sticks out, and it then sets the Hausdorff error. The floor keeps every face
   // counting, as CGAL's unweighted planes do, while large faces still count for more.
   double total_area = 0;
-  for (const auto& t : triangles_) {
-    const double len = (vd_[t[1]].p - vd_[t[0]].p).cross(vd_[t[2]].p - vd_[t[0]].p).norm();
+  std::vector<double> twice_area(triangles_.size());  // kept for the next sweep: one root per face
+  for (std::size_t f = 0; f < triangles_.size(); ++f) {
+    const auto& t = triangles_[f];
+    const double len = (pos[t[1]] - pos[t[0]]).cross(pos[t[2]] - pos[t[0]]).norm();
+    twice_area[f] = len;
     if (len > 0 && std::isfinite(len)) total_area += 0.5 * len;
   }
   const double floor_area = triangles_.empty() ? 0.0 : 0.25 * total_area / triangles_.size();
-  for (const auto& t : triangles_) {
-    const Point &a = vd_[t[0]].p, &b = vd_[t[1]].p, &c = vd_[t[2]].p;
+  for (std::size_t f = 0; f < triangles_.size(); ++f) {
+    const auto& t = triangles_[f];
+    const Point &a = pos[t[0]], &b = pos[t[1]], &c = pos[t[2]];
     const Eigen::Vector3d nrm = (b - a).cross(c - a);
-    const double len = nrm.norm();
+    const double len = twice_area[f];
     if (!(len > 0) || !std::isfinite(len)) continue;
     const Eigen::Vector3d unit = nrm / len;
     const double weight = 0.5 * len + floor_area;
@@ -198,13 +205,14 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
       for (std::uint32_t b : triangles_[refs_[i]])
         if (b > a && vd_[b].mark != mark_token_ && !(vd_[a].locked && vd_[b].locked)) {
           vd_[b].mark = mark_token_;
-          initial.push_back({priority(a, b, place(a, b).cost), a, b, 0});
+          initial.push_back({0.0f, a, b, 0});
         }
   }
+  set_costs(initial.data(), initial.size());
   queue_.assign(std::move(initial));
 }
 
-std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
+inline std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
   // Non-negative floats order like their bit patterns; NaN goes last.
   if (!(cost >= 0.0f)) return std::isnan(cost) ? 0x7f800000u : 0u;
   return std::bit_cast<std::uint32_t>(cost);
@@ -242,10 +250,6 @@ void CollapseEngine::RadixQueue::assign(std::vector<Candidate> entries) {
   for (std::size_t i = 0; i < count.size(); ++i) buckets_[i].reserve(count[i]);
   for (const Candidate& c : entries) buckets_[bucket(key(c.cost))].push_back(c);
   size_ = entries.size();
-}
-
-bool CollapseEngine::RadixQueue::current(const Candidate& c) const {
-  return c.stamps == stamps_[c.a] + stamps_[c.b];
 }
 
 void CollapseEngine::RadixQueue::settle() {
@@ -336,11 +340,6 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
   return best;
 }
 
-void CollapseEngine::push_edge(std::uint32_t a, std::uint32_t b) {
-  if (vd_[a].locked && vd_[b].locked) return;
-  queue_.push({priority(a, b, place(a, b).cost), a, b, stamp_[a] + stamp_[b]});
-}
-
 // The queue orders by cost / √(face weight merged into the two ends) rather than by cost.
 // The cost is an area-weighted sum of squared distances, so by cost alone a spike or crease
 // made of small triangles goes before a large gently curved patch whose removal moves the
@@ -350,9 +349,20 @@ void CollapseEngine::push_edge(std::uint32_t a, std::uint32_t b) {
 // from 1.04× to 0.94× the best peer's (geometric mean), cost alone and the plain mean did
 // worse. The weight leaves out the boundary constraint planes (the quadric's trace would
 // not): with them, boundary vertices came up ten times early and open meshes lost up to 2×.
-float CollapseEngine::priority(std::uint32_t a, std::uint32_t b, double cost) const {
+inline float CollapseEngine::priority(std::uint32_t a, std::uint32_t b, double cost) const {
   const double weight = vd_[a].weight + vd_[b].weight;
   return static_cast<float>(weight > 0 ? cost / std::sqrt(weight) : cost);
+}
+
+void CollapseEngine::set_costs(Candidate* c, std::size_t n) const {
+  std::size_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    const std::uint32_t a[2] = {c[i].a, c[i + 1].a}, b[2] = {c[i].b, c[i + 1].b};
+    const std::array<double, 2> cost = place_cost_pair(a, b);
+    c[i].cost = priority(a[0], b[0], cost[0]);
+    c[i + 1].cost = priority(a[1], b[1], cost[1]);
+  }
+  if (i < n) c[i].cost = priority(c[i].a, c[i].b, place(c[i].a, c[i].b).cost);
 }
 
 void CollapseEngine::push_vertex_edges(std::uint32_t v) {
@@ -372,7 +382,13 @@ void CollapseEngine::push_vertex_edges(std::uint32_t v) {
         __builtin_prefetch(&vd_[w].p);
       }
   }
-  for (std::uint32_t w : neighbours_) push_edge(v, w);
+  // Costs first, two edges at a time (set_costs), then the pushes.
+  pending_.clear();
+  const bool v_locked = vd_[v].locked;
+  for (std::uint32_t w : neighbours_)
+    if (!(v_locked && vd_[w].locked)) pending_.push_back({0.0f, v, w, stamp_[v] + stamp_[w]});
+  set_costs(pending_.data(), pending_.size());
+  for (const Candidate& c : pending_) queue_.push(c);
 }
 
 void CollapseEngine::drop_ref(std::uint32_t w, std::uint32_t t) {
@@ -611,6 +627,8 @@ void CollapseEngine::prefetch_upcoming() const {
       const std::uint32_t* list = refs_.data() + vd_[x].ref_begin;
       __builtin_prefetch(list);
       if (vd_[x].ref_size > 1) __builtin_prefetch(list + vd_[x].ref_size - 1);
+      // The survivor's model position is written at the end, a miss of its own otherwise.
+      __builtin_prefetch(&model_[x], 1);
     }
   if (const Candidate* c = queue_.peek(2))
     for (std::uint32_t x : ends(c))

@@ -124,12 +124,14 @@ class CollapseEngine {
     static constexpr std::size_t kAhead = 8;
 
    private:
-    bool current(const Candidate& c) const;
+    [[gnu::always_inline]] bool current(const Candidate& c) const {
+      return c.stamps == stamps_[c.a] + stamps_[c.b];
+    }
     /// Keep the next kAhead entries (or all that are left) in ahead_.
     void top_up();
     /// Make bucket 0 hold the current entries of the smallest cost, unless none is left.
     void settle();
-    static std::uint32_t key(float cost);
+    [[gnu::always_inline]] static std::uint32_t key(float cost);
     int bucket(std::uint32_t k) const;
     std::array<std::vector<Candidate>, 33> buckets_;
     std::uint32_t last_ = 0;
@@ -149,8 +151,12 @@ class CollapseEngine {
   };
 
   Placement place(std::uint32_t a, std::uint32_t b) const;
-  float priority(std::uint32_t a, std::uint32_t b, double cost) const;
-  void push_edge(std::uint32_t a, std::uint32_t b);
+  /// place(a[k], b[k]).cost for k = 0, 1, bit for bit, in two SIMD lanes
+  /// (collapse_costs.cpp).
+  std::array<double, 2> place_cost_pair(const std::uint32_t* a, const std::uint32_t* b) const;
+  /// Set the cost (the queue's priority) of c[0 .. n), two edges at a time.
+  void set_costs(Candidate* c, std::size_t n) const;
+  [[gnu::always_inline]] float priority(std::uint32_t a, std::uint32_t b, double cost) const;
   void push_vertex_edges(std::uint32_t v);
   void prefetch_upcoming() const;
   // Forced inline: the collapse checks call it for every triangle around both ends.
@@ -208,6 +214,7 @@ class CollapseEngine {
 
   RadixQueue queue_;
   std::vector<std::uint32_t> neighbours_;
+  std::vector<Candidate> pending_;  // push_vertex_edges' scratch
   std::size_t collapses_ = 0;
   double max_error_ = 0;
   bool error_rejected_ = false;

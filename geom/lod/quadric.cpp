@@ -7,21 +7,6 @@
 
 namespace geom {
 
-Quadric Quadric::plane(const Eigen::Vector3d& n, double d, double w) {
-  Quadric q;
-  q.a00 = w * n.x() * n.x();
-  q.a01 = w * n.x() * n.y();
-  q.a02 = w * n.x() * n.z();
-  q.a11 = w * n.y() * n.y();
-  q.a12 = w * n.y() * n.z();
-  q.a22 = w * n.z() * n.z();
-  q.b0 = w * n.x() * d;
-  q.b1 = w * n.y() * d;
-  q.b2 = w * n.z() * d;
-  q.c = w * d * d;
-  return q;
-}
-
 Eigen::Matrix3d Quadric::matrix() const {
   Eigen::Matrix3d m;
   m << a00, a01, a02, a01, a11, a12, a02, a12, a22;

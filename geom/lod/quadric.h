@@ -66,6 +66,22 @@ struct Quadric {
                                      double relative_tolerance) const;
 };
 
+// Inline: simplification calls it for every face at the start.
+inline Quadric Quadric::plane(const Eigen::Vector3d& n, double d, double w) {
+  Quadric q;
+  q.a00 = w * n.x() * n.x();
+  q.a01 = w * n.x() * n.y();
+  q.a02 = w * n.x() * n.z();
+  q.a11 = w * n.y() * n.y();
+  q.a12 = w * n.y() * n.z();
+  q.a22 = w * n.z() * n.z();
+  q.b0 = w * n.x() * d;
+  q.b1 = w * n.y() * d;
+  q.b2 = w * n.z() * d;
+  q.c = w * d * d;
+  return q;
+}
+
 // Inline: simplification calls it for every edge it evaluates.
 inline Eigen::Vector3d Quadric::minimizer(const Eigen::Vector3d& reference,
                                           double relative_tolerance) const {
