@@ -181,8 +181,9 @@ void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal
     return t;
   };
   // Zip edge from→to (opposite corner k) with the open reverse gate, or open a new gate.
-  auto attach = [&](std::uint32_t from, std::uint32_t to, std::uint32_t k) {
-    const std::uint32_t g = region.find(to, from);
+  // fresh: one end is a vertex the triangle just added, so no gate can touch it.
+  auto attach = [&](std::uint32_t from, std::uint32_t to, std::uint32_t k, bool fresh = false) {
+    const std::uint32_t g = fresh ? kNone : region.find(to, from);
     if (g != kNone) {
       d.check_zip(k, region.gate(g).corner);
       pair(k, region.gate(g).corner);
@@ -228,14 +229,15 @@ void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal
       pair(3 * nt + 2, gate.corner);
       // New edges: u→w (opposite corner v) and w→v (opposite corner u).
       std::uint32_t ga, gb;
+      const bool fresh = sym == kNew;
       if (traversal == Traversal::kRightFirst) {
-        gb = attach(w, v, 3 * nt + 1);
-        ga = attach(u, w, 3 * nt + 0);
+        gb = attach(w, v, 3 * nt + 1, fresh);
+        ga = attach(u, w, 3 * nt + 0, fresh);
         if (gb != kNone) stack.push_back(gb);
         if (ga != kNone) stack.push_back(ga);
       } else {
-        ga = attach(u, w, 3 * nt + 0);
-        gb = attach(w, v, 3 * nt + 1);
+        ga = attach(u, w, 3 * nt + 0, fresh);
+        gb = attach(w, v, 3 * nt + 1, fresh);
         if (ga != kNone) stack.push_back(ga);
         if (gb != kNone) stack.push_back(gb);
       }
