@@ -504,11 +504,15 @@ inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsign
 /// The degree-order traversal with prediction and residual coding fused (see
 /// decode_positions_degree); Coder is ResidualReader or ResidualWriter. q (table numbering
 /// on entry for the writer) receives the grid points in the new order.
-template <class Coder>
-std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& reader,
-                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
-                                       bool select, bool anchored,
-                                       DegreePlan* plan = nullptr) {
+/// kSelect: predictor 5's subset choice. The per-vertex loop is compiled once per predictor
+/// family and side (the decoder never records a plan), which keeps its state in registers.
+template <bool kSelect, class Coder>
+std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& reader,
+                                          std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                          bool anchored, DegreePlan* plan) {
+  constexpr bool kWriter = requires { reader.truth(0u); };
+  if constexpr (!kWriter) plan = nullptr;
+  constexpr bool select = kSelect;
   constexpr unsigned kTop = 2;
   const std::uint32_t nc = t.n_vertices;
   // Everything the traversal asks about a vertex (table numbering) in one record: its grid
@@ -551,7 +555,9 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     Slot& sx = slot[x];
     if (sx.degree < kTop) ++sx.degree;
     bucket[sx.degree].push_back(x);
+    // x's wedges (six 12-byte records on average) usually span two cache lines.
     __builtin_prefetch(wedge.data() + sx.first);
+    __builtin_prefetch(wedge.data() + std::min<std::size_t>(sx.first + 5, wedge.size()));
     // The writer reads x's true point when it takes x, usually soon.
     if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
   };
@@ -586,26 +592,24 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
     std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
     unsigned count = 0, act_sum = 0, act_n = 0;
-    std::uint32_t neighbour = kNone, neighbour_order = 0;
     for (const Wedge* we = w_begin; we != w_end; ++we) {
       const Slot& sa = slot[we->a];
       const Slot& sb = slot[we->b];
       const bool da = sa.order != kNone, db = sb.order != kNone;
-      if (da) {
-        act_sum += sa.rlen, ++act_n;
-        if (plan) plan->act.push_back(sa.order);
-        if (neighbour == kNone || sa.order > neighbour_order) neighbour = we->a, neighbour_order = sa.order;
+      if (plan) {
+        if (da) plan->act.push_back(sa.order);
+        if (db) plan->act.push_back(sb.order);
       }
-      if (db) {
-        act_sum += sb.rlen, ++act_n;
-        if (plan) plan->act.push_back(sb.order);
-        if (neighbour == kNone || sb.order > neighbour_order) neighbour = we->b, neighbour_order = sb.order;
-      }
+      // Selects, not branches: which ends are taken is a coin toss to the branch predictor.
+      act_sum += (da ? sa.rlen : 0u) + (db ? sb.rlen : 0u);
+      act_n += unsigned{da} + unsigned{db};
       // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
       // so raising here, before v is taken, pushes the same vertices in the same order.
-      if (db && !da) bump(we->a);
-      if (da && !db) bump(we->b);
-      if (!da || !db || we->c == kNone) continue;
+      if (da != db) {
+        bump(da ? we->b : we->a);
+        continue;
+      }
+      if (!da || we->c == kNone) continue;
       const Slot& sc = slot[we->c];
       if (sc.order == kNone) continue;
       for (int x = 0; x < 3; ++x) {
@@ -621,6 +625,7 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     }
     const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
     QPoint p{0, 0, 0};
+    std::uint32_t neighbour = kNone;
     if (select && count >= 2) {
       const unsigned m = std::min(count, kMaxSelect);
       // Candidates ranked by |2c − a − b|², how far their opposite vertex c lies from the
@@ -670,6 +675,13 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
       if constexpr (requires { reader.truth(v); })
         if (probe && i % 4 == 0) probe->add(reader.truth(v), sum, ends, count);  // a sample will do
     } else {
+      // Without a parallelogram (rare): the neighbour taken last, found by a second scan so
+      // that the common case's loop carries no comparison of places.
+      std::uint32_t neighbour_order = 0;
+      for (const Wedge* we = w_begin; we != w_end; ++we)
+        for (const std::uint32_t x : {we->a, we->b})
+          if (slot[x].order != kNone && (neighbour == kNone || slot[x].order > neighbour_order))
+            neighbour = x, neighbour_order = slot[x].order;
       if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
       if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
     }
@@ -736,6 +748,14 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& rea
     last_rlen = code(reader, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
   }
   return seq;
+}
+
+template <class Coder>
+std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& coder,
+                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                       bool select, bool anchored, DegreePlan* plan = nullptr) {
+  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan)
+                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan);
 }
 
 }  // namespace
