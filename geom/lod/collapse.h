@@ -166,6 +166,8 @@ class CollapseEngine {
   }
   void drop_ref(std::uint32_t w, std::uint32_t t);
   int try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
+  double tip_cost(std::uint32_t u, std::uint32_t v, const Placement& pl) const;
+  double tip_height2(int start, const Point& p, const Point& x, double t2) const;
   void collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
   void ensure_refs(std::size_t extra);
   // A triangle of the fan around the merged vertex: its other corners in order, its normal.
@@ -179,6 +181,9 @@ class CollapseEngine {
   static constexpr int kFanMax = 64;
   // cos 127°: CGAL rejects only near-complete folds (179°); this also stops sharp creases.
   static constexpr double kFoldCos = -0.6;
+  // A collapse that leaves a removed position more than √kTipRatio × its RMS quadric error
+  // above the new fan is requeued at cost kTipWeight · weight · height² (see tip_cost()).
+  static constexpr double kTipRatio = 6.0, kTipWeight = 0.5;
   std::vector<Point> normalised_positions() const;
 
   // Attribute hooks (collapse_attributes.cpp), called only when attributes_ is set.
@@ -224,6 +229,8 @@ class CollapseEngine {
 
   std::unique_ptr<AttributeQuadrics> attributes_;  // null unless options.attributes.any()
   std::array<FanFace, kFanMax> fan_;  // try_collapse's scratch: the new fan
+  // Its size (0: not recorded) and where v's triangles start in it.
+  int fan_size_ = 0, fan_v_ = 0;
 };
 
 }  // namespace geom::detail
