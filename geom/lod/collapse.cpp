@@ -656,9 +656,14 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   vd_[v].q += vd_[u].q;
   vd_[v].weight = w;
   vd_[v].p = pl.p;
-  // Sources 1 and 2 keep the survivor's own position (run() orders u, v so): copying the
-  // model-unit value keeps kept and locked vertices bit-exact.
-  if (pl.source == 0 || pl.source == 3) model_[v] = center_ + scale_ * pl.p;
+  // Sources 1 and 2 keep the survivor's own position (run() orders u, v so): its model-unit
+  // value stays, so kept and locked vertices stay bit-exact. A moved vertex gets its model
+  // position from vd_[v].p when it is needed (model()): writing it here was a cache miss
+  // per collapse, and simplify() needs only the survivors' at the end.
+  if (pl.source == 0 || pl.source == 3) {
+    vd_[v].moved = 1;
+    if (record_) model_[v] = model(v);
+  }
   vd_[v].boundary |= vd_[u].boundary;
   ++stamp_[v];
   ++stamp_[u];
@@ -687,8 +692,8 @@ void CollapseEngine::prefetch_upcoming() const {
       const std::uint32_t* list = refs_.data() + vd_[x].ref_begin;
       __builtin_prefetch(list);
       if (vd_[x].ref_size > 1) __builtin_prefetch(list + vd_[x].ref_size - 1);
-      // The survivor's model position is written at the end, a miss of its own otherwise.
-      __builtin_prefetch(&model_[x], 1);
+      // A progressive mesh's records read and write the model positions.
+      if (record_) __builtin_prefetch(&model_[x], 1);
     }
   if (const Candidate* c = queue_.peek(2))
     for (std::uint32_t x : ends(c))
@@ -741,13 +746,15 @@ SimplifyStop CollapseEngine::run(std::size_t target) {
     vd_[v].retry = 0;
     push_vertex_edges(v);
     // Neighbours with rejected edges: their surroundings changed, so queue their edges
-    // again (duplicates of still-valid entries are harmless).
-    for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i)
-      for (std::uint32_t w : triangles_[refs_[i]])
-        if (w != v && vd_[w].retry) {
-          vd_[w].retry = 0;
-          push_vertex_edges(w);
-        }
+    // again (duplicates of still-valid entries are harmless). push_vertex_edges left v's
+    // neighbours in neighbours_, in the order of a walk over v's triangles.
+    retry_.clear();
+    for (std::uint32_t w : neighbours_)
+      if (vd_[w].retry) retry_.push_back(w);
+    for (std::uint32_t w : retry_) {
+      vd_[w].retry = 0;
+      push_vertex_edges(w);
+    }
     if (options_.progress && collapses_ >= next_report) {
       next_report = collapses_ + 4096;
       const double total = static_cast<double>(start - std::min(start, target));
@@ -772,7 +779,7 @@ SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
   for (std::size_t v = 0; v < vd_.size(); ++v) {
     if (vd_[v].ref_size == 0) continue;
     index[v] = static_cast<std::uint32_t>(positions.size());
-    positions.push_back(model_[v]);
+    positions.push_back(model(v));
     if (out_origin) out_origin->push_back(vertex_of_[v]);
   }
   std::vector<std::array<std::uint32_t, 3>> kept;

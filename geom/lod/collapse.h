@@ -74,9 +74,11 @@ class CollapseEngine {
   const std::vector<CollapseRecord>& records() const { return records_; }
   const std::vector<std::uint32_t>& changed() const { return changed_; }
 
-  /// Current state: positions (model units), triangles and which of them are alive, and
-  /// how many live triangles each vertex has (0: removed).
-  const std::vector<Point>& positions() const { return model_; }
+  /// Current state: a vertex's position (model units), triangles and which of them are
+  /// alive, and whether a vertex still has live triangles.
+  Point model(std::uint32_t v) const {
+    return vd_[v].moved ? Point(center_ + scale_ * vd_[v].p) : model_[v];
+  }
   const std::vector<std::array<std::uint32_t, 3>>& triangles() const { return triangles_; }
   bool triangle_alive(std::uint32_t t) const { return tri_alive_[t] != 0; }
   bool vertex_alive(std::uint32_t v) const { return vd_[v].ref_size != 0; }
@@ -94,6 +96,8 @@ class CollapseEngine {
     // Live incident triangles: refs_[ref_begin .. ref_begin + ref_size); none once removed.
     std::uint32_t ref_begin = 0, ref_size = 0;
     std::uint8_t boundary = 0, locked = 0, retry = 0;
+    // Placed at a new position by a collapse: its model position is then derived from p.
+    std::uint8_t moved = 0;
     // Face plane weight (area) merged into the vertex, normalised units: the queue's
     // priority reads it for every neighbour, so it lives here rather than in its own array.
     double weight = 0;
@@ -205,7 +209,7 @@ class CollapseEngine {
   double scale_ = 1.0;  // model = center + scale · normalised
 
   std::vector<VertexData> vd_;
-  std::vector<Point> model_;     // model units
+  std::vector<Point> model_;     // model units; stale for moved vertices unless record_
   std::vector<std::uint32_t> stamp_;  // apart from vd_: the queue reads them densely
   std::uint32_t mark_token_ = 0;
 
@@ -220,6 +224,7 @@ class CollapseEngine {
   RadixQueue queue_;
   std::vector<std::uint32_t> neighbours_;
   std::vector<Candidate> pending_;  // push_vertex_edges' scratch
+  std::vector<std::uint32_t> retry_;  // run()'s scratch
   std::size_t collapses_ = 0;
   double max_error_ = 0;
   bool error_rejected_ = false;

@@ -29,7 +29,9 @@ struct Quadric {
     return plane(n, -n.dot(p), w);
   }
 
-  Quadric& operator+=(const Quadric& q) {
+  // Forced inline: simplification's setup adds three per face, and out of line each was a
+  // call that also kept the sums out of SIMD registers.
+  [[gnu::always_inline]] Quadric& operator+=(const Quadric& q) {
     a00 += q.a00, a01 += q.a01, a02 += q.a02, a11 += q.a11, a12 += q.a12, a22 += q.a22;
     b0 += q.b0, b1 += q.b1, b2 += q.b2, c += q.c;
     return *this;
