@@ -157,6 +157,14 @@ TEST(Simplify, LockedBoundaryKeepsEveryBoundaryVertex) {
 
 // A torus with spikes: every 23rd face split at its centroid, the new vertex lifted by
 // `height` along the face normal (0.01 is about a fifth of an edge).
+/// The distance from m to its simplification to `ratio`, after the topology checks every
+/// result must pass.
+MeshDistance simplified_distance(const SurfaceMesh& m, double ratio) {
+  const SimplifyResult r = simplify(m, {.ratio = ratio});
+  test::expect_same_topology(m, r.mesh);
+  return mesh_distance(m, r.mesh, {.samples = 20000});
+}
+
 SurfaceMesh spiky_torus(double height) {
   const SurfaceMesh smooth = test::torus(96, 48);
   SurfaceMesh m;
@@ -183,10 +191,7 @@ SurfaceMesh spiky_torus(double height) {
 // floor they stay (9.0e-4), and with the queue ordered by cost / √weight rather than cost
 // fewer are flattened (6.8e-4).
 TEST(Simplify, SmallSpikesSurviveHalving) {
-  const SurfaceMesh m = spiky_torus(0.01);
-  const SimplifyResult r = simplify(m, {.ratio = 0.5});
-  test::expect_same_topology(m, r.mesh);
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 20000});
+  const MeshDistance d = simplified_distance(spiky_torus(0.01), 0.5);
   EXPECT_LT(d.relative_hausdorff(), 8.0e-4);
   EXPECT_LT(d.relative_rms(), 2.2e-4);
 }
@@ -196,10 +201,7 @@ TEST(Simplify, SmallSpikesSurviveHalving) {
 // new fan. Checking that height requeues such collapses at a cost that counts it: Hausdorff
 // 4.2e-3 of the diagonal, against 7.8e-3 without the check.
 TEST(Simplify, TallSpikesAreNotCutOffCheaply) {
-  const SurfaceMesh m = spiky_torus(0.03);
-  const SimplifyResult r = simplify(m, {.ratio = 0.3});
-  test::expect_same_topology(m, r.mesh);
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 20000});
+  const MeshDistance d = simplified_distance(spiky_torus(0.03), 0.3);
   EXPECT_LT(d.relative_hausdorff(), 5.5e-3);
 }
 
@@ -229,9 +231,7 @@ TEST(Simplify, HalvedHemisphereKeepsItsRim) {
     }
     m.add_triangle(c[0], c[1], c[2]);
   }
-  const SimplifyResult r = simplify(m, {.ratio = 0.5});
-  test::expect_same_topology(m, r.mesh);
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 20000});
+  const MeshDistance d = simplified_distance(m, 0.5);
   EXPECT_LT(d.relative_hausdorff(), 1.0e-3);
   EXPECT_LT(d.relative_rms(), 1.7e-4);
 }
