@@ -43,13 +43,19 @@ struct Gate {
   std::uint32_t next_out, next_in;
 };
 
+// A gate is opened by attaching a corner's edge, at most once per corner (any stream; a
+// closed mesh opens about 3T/2). Untouched pages of the block cost nothing.
+std::size_t max_gates_for(std::size_t n_triangles) { return 3 * n_triangles; }
+
+std::size_t gates_at(std::size_t max_gates) { return (max_gates + 7) & ~std::size_t{7}; }
+
 class Region {
  public:
-  explicit Region(std::size_t n_triangles) {
-    // Every edge opens at most one gate: E ≤ 3T/2 (+3 for a seed).
-    const std::size_t max_gates = n_triangles + n_triangles / 2 + 3;
-    reserve_huge(gates_, max_gates);
-    open_.reserve(max_gates);
+  Region(std::size_t n_triangles, Scratch& scratch) {
+    const std::size_t max_gates = max_gates_for(n_triangles);
+    scratch.reserve(connectivity_scratch_bytes(n_triangles));
+    open_ = scratch.array<std::uint8_t>(0, max_gates);
+    gates_ = scratch.array<Gate>(gates_at(max_gates), max_gates);
     out_head_.reserve(n_triangles / 2 + 3);
     in_head_.reserve(n_triangles / 2 + 3);
   }
@@ -67,7 +73,7 @@ class Region {
   }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
   bool is_open(std::uint32_t g) const { return open_[g] != 0; }
-  void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_.data() + g); }
+  void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_ + g); }
 
   /// The open gate from a to b, or kNone.
   std::uint32_t find(std::uint32_t a, std::uint32_t b) const {
@@ -86,9 +92,9 @@ class Region {
     return g == kNone ? kNone : gates_[g].from;
   }
   std::uint32_t open(std::uint32_t from, std::uint32_t to, std::uint32_t corner) {
-    const auto id = static_cast<std::uint32_t>(gates_.size());
-    gates_.push_back({from, to, corner, out_head_[from], in_head_[to]});
-    open_.push_back(1);
+    const std::uint32_t id = n_gates_++;
+    gates_[id] = {from, to, corner, out_head_[from], in_head_[to]};
+    open_[id] = 1;
     out_head_[from] = id;
     in_head_[to] = id;
     return id;
@@ -104,8 +110,9 @@ class Region {
   }
 
  private:
-  std::vector<Gate> gates_;
-  std::vector<std::uint8_t> open_;
+  Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T) of each
+  std::uint8_t* open_;
+  std::uint32_t n_gates_ = 0;
   std::vector<std::uint32_t> out_head_, in_head_;
   std::vector<std::uint8_t> fan_;
 };
@@ -146,15 +153,15 @@ std::uint32_t walk_find(const Region& region, std::uint32_t u, std::uint32_t v, 
 /// (the encoder reads them off the input and codes them, the decoder reads them from the
 /// stream), so both sides build the same table by construction.
 template <class Driver>
-void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal,
-          CornerTable& out) {
+void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal, CornerTable& out,
+          Scratch& scratch) {
   out.vertex.clear();
   reserve_huge(out.vertex, 3 * n_triangles);
   out.opposite.clear();
   reserve_huge(out.opposite, 3 * n_triangles);
   out.diagonal.clear();
   if (polygons) out.diagonal.reserve(3 * n_triangles);
-  Region region(n_triangles);
+  Region region(n_triangles, scratch);
   std::vector<std::uint32_t> stack;
 
   auto pair = [&](std::uint32_t a, std::uint32_t b) {
@@ -223,6 +230,8 @@ void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal
         continue;
       }
       if (w == u || w == v) d.fail("grown triangle repeats a gate vertex");
+      // Bounds the gates too (at most one per corner), which live in a block of fixed size.
+      if (out.vertex.size() >= 3 * n_triangles) d.fail("more triangles than the stream's count");
       region.close(gid);
       const std::uint32_t nt = add_triangle(v, u, w);
       d.on_triangle(nt);
@@ -449,17 +458,25 @@ class Decoder {
 
 }  // namespace
 
+std::size_t connectivity_scratch_bytes(std::size_t n_triangles) {
+  const std::size_t max_gates = max_gates_for(n_triangles);
+  return gates_at(max_gates) + max_gates * sizeof(Gate);
+}
+
 void encode_connectivity(const CornerTable& input, bool polygons, Traversal traversal,
                          RansEncoder& rans, BitWriter& raw, CornerTable& decoded,
                          TraversalOrder& order) {
   Encoder enc(input, rans, raw, order);
-  grow(enc, input.n_triangles(), polygons, traversal, decoded);
+  Scratch scratch;
+  grow(enc, input.n_triangles(), polygons, traversal, decoded, scratch);
 }
 
 void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
-                         RansDecoder& rans, BitReader& raw, CornerTable& decoded) {
+                         RansDecoder& rans, BitReader& raw, CornerTable& decoded,
+                         Scratch* scratch) {
   Decoder dec(rans, raw, n_triangles);
-  grow(dec, n_triangles, polygons, traversal, decoded);
+  Scratch own;
+  grow(dec, n_triangles, polygons, traversal, decoded, scratch ? *scratch : own);
 }
 
 }  // namespace geom::codec::detail

@@ -14,6 +14,7 @@
 /// connectivity", SIGGRAPH 1998 (the cut-border / gate view).
 
 #include <geom/compress/rans.h>
+#include <geom/compress/scratch.h>
 
 #include <cstdint>
 #include <vector>
@@ -55,10 +56,15 @@ void encode_connectivity(const CornerTable& input, bool polygons, Traversal trav
                          RansEncoder& rans, BitWriter& raw, CornerTable& decoded,
                          TraversalOrder& order);
 
-/// Rebuild the corner table of n_triangles triangles from the streams.
+/// Rebuild the corner table of n_triangles triangles from the streams. Its gates live in
+/// `scratch` (a block of its own when null), dead on return.
 /// Throws: DecodeError (with the byte offset) on truncated or inconsistent data.
 /// Complexity: O(T).
 void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
-                         RansDecoder& rans, BitReader& raw, CornerTable& decoded);
+                         RansDecoder& rans, BitReader& raw, CornerTable& decoded,
+                         Scratch* scratch = nullptr);
+
+/// The scratch bytes decode_connectivity uses for n_triangles.
+std::size_t connectivity_scratch_bytes(std::size_t n_triangles);
 
 }  // namespace geom::codec::detail

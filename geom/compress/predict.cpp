@@ -70,6 +70,22 @@ struct Wedge {
   std::uint32_t a, b, c;
 };
 
+/// Everything the degree pass asks about a vertex (table numbering) in one record: its grid
+/// point, its place in the traversal (kNone until taken), where its wedges start, its
+/// degree and residual length. A vertex's record is in cache when it is raised, so its
+/// wedges can be prefetched before the traversal takes it.
+struct Slot {
+  std::uint32_t q[3];
+  std::uint32_t order;
+  std::uint32_t first;  // its wedges are wedge[first, next record's first)
+  std::uint8_t degree, rlen;
+};
+
+/// The degree pass's scratch block: a wedge per corner, then a record per vertex (+1).
+std::size_t slots_at(std::size_t n_corners) {
+  return (n_corners * sizeof(Wedge) + alignof(Slot) - 1) / alignof(Slot) * alignof(Slot);
+}
+
 /// The prediction of vertex w from earlier vertices; returns the number of parallelograms
 /// used (0 when it fell back to a neighbour or the previous vertex).
 unsigned predict(const CornerTable& t, const Incidence& inc, std::span<const QPoint> q,
@@ -509,28 +525,17 @@ inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsign
 template <bool kSelect, class Coder>
 std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& reader,
                                           std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
-                                          bool anchored, DegreePlan* plan) {
+                                          bool anchored, DegreePlan* plan, Scratch& scratch) {
   constexpr bool kWriter = requires { reader.truth(0u); };
   if constexpr (!kWriter) plan = nullptr;
   constexpr bool select = kSelect;
   constexpr unsigned kTop = 2;
   const std::uint32_t nc = t.n_vertices;
-  // Everything the traversal asks about a vertex (table numbering) in one record: its grid
-  // point, its place in the traversal (kNone until taken), where its wedges start, its
-  // degree and residual length. A vertex's record is in cache when it is raised, so its
-  // wedges can be prefetched before the traversal takes it.
-  struct Slot {
-    std::uint32_t q[3];
-    std::uint32_t order;
-    std::uint32_t first;  // its wedges are wedge[first, next record's first)
-    std::uint8_t degree, rlen;
-  };
-  std::vector<Slot> slot;
-  reserve_huge(slot, nc + 1);
-  slot.assign(nc + 1, Slot{{0, 0, 0}, kNone, 0, 0, 0});
-  std::vector<Wedge> wedge;
-  reserve_huge(wedge, t.vertex.size());
-  wedge.resize(t.vertex.size());
+  const std::size_t n_corners = t.vertex.size();
+  scratch.reserve(degree_scratch_bytes(n_corners, nc));
+  Wedge* const wedge = scratch.array<Wedge>(0, n_corners);  // every one written below
+  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc + 1);
+  std::fill_n(slot, nc + 1, Slot{{0, 0, 0}, kNone, 0, 0, 0});
   {
     for (std::uint32_t v : t.vertex) ++slot[v + 1].first;
     for (std::uint32_t i = 1; i <= nc; ++i) slot[i].first += slot[i - 1].first;
@@ -556,8 +561,8 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     if (sx.degree < kTop) ++sx.degree;
     bucket[sx.degree].push_back(x);
     // x's wedges (six 12-byte records on average) usually span two cache lines.
-    __builtin_prefetch(wedge.data() + sx.first);
-    __builtin_prefetch(wedge.data() + std::min<std::size_t>(sx.first + 5, wedge.size()));
+    __builtin_prefetch(wedge + sx.first);
+    __builtin_prefetch(wedge + std::min<std::size_t>(sx.first + 5, n_corners));
     // The writer reads x's true point when it takes x, usually soon.
     if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
   };
@@ -587,8 +592,8 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     }
     // Predict from the vertices already taken (exactly decode_positions' rule on the
     // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
-    const Wedge* w_begin = wedge.data() + slot[v].first;
-    const Wedge* w_end = wedge.data() + slot[v + 1].first;
+    const Wedge* w_begin = wedge + slot[v].first;
+    const Wedge* w_end = wedge + slot[v + 1].first;
     std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
     std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
     unsigned count = 0, act_sum = 0, act_n = 0;
@@ -706,7 +711,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   }
   {
     // Renumber through a dense map (a quarter of the records' size, so it stays in cache).
-    std::vector<std::uint32_t> new_id(nc);
+    std::uint32_t* const new_id = scratch.array<std::uint32_t>(0, nc);  // over the dead wedges
     for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
     for (std::uint32_t& v : t.vertex) v = new_id[v];
   }
@@ -753,21 +758,29 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
 template <class Coder>
 std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& coder,
                                        std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
-                                       bool select, bool anchored, DegreePlan* plan = nullptr) {
-  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan)
-                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan);
+                                       bool select, bool anchored, DegreePlan* plan,
+                                       Scratch& scratch) {
+  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan, scratch)
+                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan, scratch);
 }
 
 }  // namespace
 
+std::size_t degree_scratch_bytes(std::size_t n_corners, std::size_t n_vertices) {
+  return slots_at(n_corners) + (n_vertices + 1) * sizeof(Slot);
+}
+
 std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
                                                    RansDecoder& rans, BitReader& raw,
                                                    std::vector<QPoint>& q, Predictor predictor,
-                                                   Blend blend, bool anchor_isolated) {
+                                                   Blend blend, bool anchor_isolated,
+                                                   Scratch* scratch) {
   const bool select = predictor == Predictor::kMultiParallelogramSelect;
   ResidualReader reader(bits, rans, raw,
                         select || predictor == Predictor::kMultiParallelogramBlend);
-  return degree_pass(table, n, reader, q, blend, nullptr, select, select && anchor_isolated);
+  Scratch own;
+  return degree_pass(table, n, reader, q, blend, nullptr, select, select && anchor_isolated,
+                     nullptr, scratch ? *scratch : own);
 }
 
 std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
@@ -778,11 +791,12 @@ std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span
   ResidualWriter writer(q, bits, rans, raw,
                         select || predictor == Predictor::kMultiParallelogramBlend);
   std::vector<QPoint> reordered;
+  Scratch scratch;
   BlendProbe probe;
   const bool measure = suggest && !blend.any();
   std::vector<std::uint32_t> seq =
       degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr, select,
-                  select && anchor_isolated, plan);
+                  select && anchor_isolated, plan, scratch);
   if (suggest) *suggest = measure ? probe.best() : Blend{};
   if (plan) {
     plan->seq = seq;

@@ -101,11 +101,17 @@ std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsig
 /// kMultiParallelogramSelect (the same, over a coded subset of the parallelograms).
 /// With kMultiParallelogramSelect and anchor_isolated, the isolated vertices are predicted
 /// from anchors (FORMAT.md) and the result also lists them (n entries, identity past the
-/// connected ones). Throws: DecodeError also for an anchor beyond the connected vertices.
+/// connected ones). The traversal's per-corner and per-vertex records live in `scratch` (a
+/// block of its own when null), dead on return.
+/// Throws: DecodeError also for an anchor beyond the connected vertices.
 std::vector<std::uint32_t> decode_positions_degree(
     CornerTable& table, std::size_t n, unsigned bits, RansDecoder& rans, BitReader& raw,
     std::vector<QPoint>& q, Predictor predictor = Predictor::kMultiParallelogramDegree,
-    Blend blend = {}, bool anchor_isolated = false);
+    Blend blend = {}, bool anchor_isolated = false, Scratch* scratch = nullptr);
+
+/// The scratch bytes decode_positions_degree uses for a table of n_corners corners and
+/// n_vertices connected vertices.
+std::size_t degree_scratch_bytes(std::size_t n_corners, std::size_t n_vertices);
 
 /// What encode_positions_degree's traversal saw, kept so that the same traversal can be
 /// coded again with other blend weights without being repeated (the order and the

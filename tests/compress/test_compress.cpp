@@ -281,6 +281,22 @@ TEST(Decompress, RandomBytesNeverCrash) {
   }
 }
 
+// The connectivity would grow the 400th triangle after the count says 399: the flat decoder
+// used to return it (its gates now live in a block sized by the count, so this matters).
+TEST(Decompress, TriangleCountBelowTheConnectivityThrows) {
+  auto bytes = compress(test::torus(20, 10).build()).bytes;
+  const std::uint8_t predictor = bytes[6];
+  const std::size_t counts = 40 + (predictor >= 4 ? 1 : 0) + (predictor == 5 ? 1 : 0);
+  // n_faces and n_triangles: 400 = varint 90 03; 399 = 8f 03.
+  for (std::size_t at : {counts, counts + 2}) {
+    ASSERT_EQ(bytes[at], 0x90);
+    ASSERT_EQ(bytes[at + 1], 0x03);
+    bytes[at] = 0x8f;
+  }
+  EXPECT_THROW(codec::decompress_flat(bytes), DecodeError);
+  EXPECT_THROW(decompress(bytes), DecodeError);
+}
+
 TEST(Compress, FlatDecodeMatchesMeshDecode) {
   const SurfaceMesh m = test::torus(20, 10).build();
   const auto c = compress(m);

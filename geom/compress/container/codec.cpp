@@ -12,6 +12,7 @@
 #include <geom/compress/rans.h>
 #include <geom/core/soup.h>
 
+#include <algorithm>
 #include <string>
 
 namespace geom {
@@ -142,13 +143,21 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   const std::uint64_t conn_base = static_cast<std::uint64_t>(conn_rans.data() - bytes.data());
   const std::uint64_t conn_raw_base = static_cast<std::uint64_t>(conn_raw.data() - bytes.data());
   core.connectivity_offset = conn_at;
+  // One block for the stages' scratch, sized for the larger at once: the degree pass then
+  // reuses the pages the connectivity step's gates touched (the counts are bounded above).
+  const bool by_degree =
+      h.predictor == Predictor::kMultiParallelogramDegree || blended(h.predictor);
+  const auto n_tri = static_cast<std::size_t>(h.n_triangles);
+  Scratch scratch;
+  scratch.reserve(std::max(connectivity_scratch_bytes(n_tri),
+                           by_degree ? degree_scratch_bytes(3 * n_tri, h.n_vertices) : 0));
   {
     const bool polygons = h.flags & kFlagPolygons;
     const Traversal trav = (h.flags & kFlagLeftFirst) ? Traversal::kLeftFirst : Traversal::kRightFirst;
     if (h.n_triangles > 0) {
       RansDecoder rd(conn_rans, conn_base);
       BitReader br(conn_raw, conn_raw_base);
-      decode_connectivity(static_cast<std::size_t>(h.n_triangles), polygons, trav, rd, br, core.table);
+      decode_connectivity(n_tri, polygons, trav, rd, br, core.table, &scratch);
       rd.finish();
     } else if (!conn_rans.empty() || !conn_raw.empty()) {
       throw DecodeError(conn_at, "connectivity data for an empty mesh");
@@ -159,9 +168,9 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.n_vertices > 0) {
     RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
-    if (h.predictor == Predictor::kMultiParallelogramDegree || blended(h.predictor))
+    if (by_degree)
       decode_positions_degree(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
-                              rd, br, core.q, h.predictor, h.blend, h.anchored);
+                              rd, br, core.q, h.predictor, h.blend, h.anchored, &scratch);
     else
       decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
                        h.predictor, rd, br, core.q);
