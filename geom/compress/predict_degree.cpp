@@ -1,0 +1,415 @@
+// The degree-order pass (predictors 3–5): vertices are taken when the most triangles around
+// them are complete, with prediction and residual coding fused into the traversal, one
+// template for the decoder and the encoder so both walk the same order by construction.
+
+#include <geom/compress/point_chain.h>
+#include <geom/compress/predict.h>
+#include <geom/compress/residuals.h>
+
+#include <geom/core/huge_pages.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace geom::codec::detail {
+
+using geom::detail::reserve_huge;
+
+namespace {
+
+/// What a corner k of vertex v contributes: a = vertex(next(k)), b = vertex(prev(k)) and
+/// c = vertex(opposite(k)) (kNone on a boundary). The decoder keeps each vertex's wedges
+/// contiguous (ascending corner order), one run per vertex instead of three scattered
+/// corner lookups per corner.
+struct Wedge {
+  std::uint32_t a, b, c;
+};
+
+/// Everything the degree pass asks about a vertex (table numbering) in one record: its grid
+/// point, its place in the traversal (kNone until taken), where its wedges start, its
+/// degree and residual length. A vertex's record is in cache when it is raised, so its
+/// wedges can be prefetched before the traversal takes it.
+struct Slot {
+  std::uint32_t q[3];
+  std::uint32_t order;
+  std::uint32_t first;  // its wedges are wedge[first, next record's first)
+  std::uint8_t degree, rlen;
+};
+
+/// The degree pass's scratch block: a wedge per corner, then a record per vertex (+1).
+std::size_t slots_at(std::size_t n_corners) {
+  return (n_corners * sizeof(Wedge) + alignof(Slot) - 1) / alignof(Slot) * alignof(Slot);
+}
+
+/// Encoder-side measurement for encode_positions_degree's `suggest`: the summed residual
+/// bit lengths each blend weight would have given, per parallelogram class (one, several).
+struct BlendProbe {
+  std::uint64_t cost[2][16] = {};
+  void add(const QPoint& truth, const std::int64_t* sum, const std::int64_t* ends, unsigned count) {
+    const unsigned cls = count > 1 ? 1 : 0;
+    for (int x = 0; x < 3; ++x) {
+      // Doubles are close enough to pick a weight (the coding pass is exact); the residual
+      // is measured from truth + 0.5 so truncation towards −∞ rounds.
+      const double mp = double(sum[x]) / count, step = (double(ends[x]) / (2 * count) - mp) / 16;
+      const double t = double(truth[x]) + 0.5 - mp;
+      for (unsigned k = 0; k < 16; ++k) {
+        const auto r = static_cast<std::int64_t>(std::floor(t - k * step));
+        const auto z = static_cast<std::uint64_t>(r >= 0 ? 2 * r : -2 * r - 1);
+        cost[cls][k] += static_cast<unsigned>(std::bit_width(z));
+      }
+    }
+  }
+  /// The weights with the smallest total; zero unless they shorten the residuals by 1/256.
+  Blend best() const {
+    std::uint8_t k[2] = {0, 0};
+    std::uint64_t base = 0, saved = 0;
+    for (int cls = 0; cls < 2; ++cls) {
+      for (std::uint8_t i = 1; i < 16; ++i)
+        if (cost[cls][i] < cost[cls][k[cls]]) k[cls] = i;
+      base += cost[cls][0];
+      saved += cost[cls][0] - cost[cls][k[cls]];
+    }
+    if (saved * 64 < base / 4) return {};
+    return {k[0], k[1]};
+  }
+};
+
+inline unsigned code(ResidualReader& r, std::uint32_t, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return r.read(p, count, activity, out);
+}
+inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return w.code(v, p, count, activity, out);
+}
+
+/// The degree-order traversal with prediction and residual coding fused (see
+/// decode_positions_degree); Coder is ResidualReader or ResidualWriter. q (table numbering
+/// on entry for the writer) receives the grid points in the new order.
+/// kSelect: predictor 5's subset choice. The per-vertex loop is compiled once per predictor
+/// family and side (the decoder never records a plan), which keeps its state in registers.
+template <bool kSelect, class Coder>
+std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& reader,
+                                          std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                          bool anchored, DegreePlan* plan, Scratch& scratch) {
+  constexpr bool kWriter = requires { reader.truth(0u); };
+  if constexpr (!kWriter) plan = nullptr;
+  constexpr bool select = kSelect;
+  constexpr unsigned kTop = 2;
+  const std::uint32_t nc = t.n_vertices;
+  const std::size_t n_corners = t.vertex.size();
+  scratch.reserve(degree_scratch_bytes(n_corners, nc));
+  Wedge* const wedge = scratch.array<Wedge>(0, n_corners);  // every one written below
+  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc + 1);
+  std::fill_n(slot, nc + 1, Slot{{0, 0, 0}, kNone, 0, 0, 0});
+  {
+    for (std::uint32_t v : t.vertex) ++slot[v + 1].first;
+    for (std::uint32_t i = 1; i <= nc; ++i) slot[i].first += slot[i - 1].first;
+    // Fill with the records' `order` fields as cursors, then restore them.
+    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = slot[i].first;
+    const std::uint32_t* vx = t.vertex.data();
+    const std::uint32_t* op = t.opposite.data();
+    for (std::size_t c = 0; c < t.vertex.size(); c += 3) {
+      const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
+      const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
+      wedge[slot[v0].order++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
+      wedge[slot[v1].order++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
+      wedge[slot[v2].order++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
+    }
+    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = kNone;
+  }
+  std::vector<std::uint32_t> bucket[kTop + 1];
+  for (auto& b : bucket) b.reserve(nc);
+  std::vector<std::uint32_t> seq(nc);
+  std::uint32_t seed = 0;
+  auto bump = [&](std::uint32_t x) {
+    Slot& sx = slot[x];
+    if (sx.degree < kTop) ++sx.degree;
+    bucket[sx.degree].push_back(x);
+    // x's wedges (six 12-byte records on average) usually span two cache lines.
+    __builtin_prefetch(wedge + sx.first);
+    __builtin_prefetch(wedge + std::min<std::size_t>(sx.first + 5, n_corners));
+    // The writer reads x's true point when it takes x, usually soon.
+    if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
+  };
+  unsigned last_rlen = 0;
+  if (plan) {
+    plan->steps.clear();
+    plan->steps.reserve(nc);
+    plan->act.clear();
+    plan->act.reserve(t.vertex.size());
+  }
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    std::uint32_t v = kNone;
+    for (int d = kTop; d >= 0 && v == kNone; --d) {
+      auto& b = bucket[d];
+      while (!b.empty()) {
+        const std::uint32_t x = b.back();
+        b.pop_back();
+        if (slot[x].order == kNone && slot[x].degree == d) {
+          v = x;
+          break;
+        }
+      }
+    }
+    if (v == kNone) {
+      while (slot[seed].order != kNone) ++seed;
+      v = seed;
+    }
+    // Predict from the vertices already taken (exactly decode_positions' rule on the
+    // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
+    const Wedge* w_begin = wedge + slot[v].first;
+    const Wedge* w_end = wedge + slot[v + 1].first;
+    std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
+    std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
+    unsigned count = 0, act_sum = 0, act_n = 0;
+    for (const Wedge* we = w_begin; we != w_end; ++we) {
+      const Slot& sa = slot[we->a];
+      const Slot& sb = slot[we->b];
+      const bool da = sa.order != kNone, db = sb.order != kNone;
+      if (plan) {
+        if (da) plan->act.push_back(sa.order);
+        if (db) plan->act.push_back(sb.order);
+      }
+      // Selects, not branches: which ends are taken is a coin toss to the branch predictor.
+      act_sum += (da ? sa.rlen : 0u) + (db ? sb.rlen : 0u);
+      act_n += unsigned{da} + unsigned{db};
+      // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
+      // so raising here, before v is taken, pushes the same vertices in the same order.
+      if (da != db) {
+        bump(da ? we->b : we->a);
+        continue;
+      }
+      if (!da || we->c == kNone) continue;
+      const Slot& sc = slot[we->c];
+      if (sc.order == kNone) continue;
+      for (int x = 0; x < 3; ++x) {
+        const std::int64_t ab = std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]};
+        sum[x] += ab - std::int64_t{sc.q[x]};
+        ends[x] += ab;  // predictor 4's centroid: the parallelograms' shared edges
+        if (select && count < kMaxSelect) {
+          cand[count][x] = ab - std::int64_t{sc.q[x]};
+          cand_ends[count][x] = ab;
+        }
+      }
+      ++count;
+    }
+    const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
+    QPoint p{0, 0, 0};
+    std::uint32_t neighbour = kNone;
+    if (select && count >= 2) {
+      const unsigned m = std::min(count, kMaxSelect);
+      // Candidates ranked by |2c − a − b|², how far their opposite vertex c lies from the
+      // middle of their edge ab (stable; |2c − a − b| < 2^31 on a 30-bit grid, so the sum
+      // fits): on a quad grid the parallelogram across a quad's diagonal (c nearer the
+      // middle) predicts the quad's fourth corner, the one across a grid edge a diagonal
+      // neighbour instead, so the masks' probabilities concentrate on the low bits.
+      std::uint64_t spread[kMaxSelect];
+      for (unsigned j = 0; j < m; ++j) {
+        spread[j] = 0;
+        for (int x = 0; x < 3; ++x) {
+          const std::int64_t d = cand_ends[j][x] - 2 * cand[j][x];
+          spread[j] += static_cast<std::uint64_t>(d * d);
+        }
+      }
+      for (unsigned j = 1; j < m; ++j)
+        for (unsigned i = j; i > 0 && spread[i] < spread[i - 1]; --i) {
+          std::swap(spread[i], spread[i - 1]);
+          for (int x = 0; x < 3; ++x) {
+            std::swap(cand[i][x], cand[i - 1][x]);
+            std::swap(cand_ends[i][x], cand_ends[i - 1][x]);
+          }
+        }
+      auto predict_subset = [&](unsigned mask) {
+        std::int64_t s[3] = {0, 0, 0}, e[3] = {0, 0, 0};
+        unsigned used = 0;
+        for (unsigned j = 0; j < m; ++j) {
+          if (!((mask >> j) & 1u)) continue;
+          for (int x = 0; x < 3; ++x) s[x] += cand[j][x], e[x] += cand_ends[j][x];
+          ++used;
+        }
+        const unsigned k = used == 1 ? blend.one : blend.many;
+        QPoint r;
+        for (int x = 0; x < 3; ++x)
+          r[x] = k == 0 ? rounded_mean(s[x], used, reader.top())
+                        : blended_mean(s[x], e[x], used, k, reader.top());
+        return r;
+      };
+      p = predict_subset(reader.choose(v, m, count, activity, predict_subset));
+    } else if (count > 0) {
+      const unsigned k = count == 1 ? blend.one : blend.many;
+      if (k == 0) {
+        for (int x = 0; x < 3; ++x) p[x] = rounded_mean(sum[x], count, reader.top());
+      } else {
+        for (int x = 0; x < 3; ++x) p[x] = blended_mean(sum[x], ends[x], count, k, reader.top());
+      }
+      if constexpr (requires { reader.truth(v); })
+        if (probe && i % 4 == 0) probe->add(reader.truth(v), sum, ends, count);  // a sample will do
+    } else {
+      // Without a parallelogram (rare): the neighbour taken last, found by a second scan so
+      // that the common case's loop carries no comparison of places.
+      std::uint32_t neighbour_order = 0;
+      for (const Wedge* we = w_begin; we != w_end; ++we)
+        for (const std::uint32_t x : {we->a, we->b})
+          if (slot[x].order != kNone && (neighbour == kNone || slot[x].order > neighbour_order))
+            neighbour = x, neighbour_order = slot[x].order;
+      if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
+      if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
+    }
+    if (plan) {
+      DegreePlan::Step& st = plan->steps.emplace_back();
+      for (int x = 0; x < 3; ++x) st.sum[x] = sum[x], st.ends[x] = ends[x];
+      st.count = count;
+      st.fallback = count == 0 && neighbour != kNone ? slot[neighbour].order : kNone;
+      st.act_begin = static_cast<std::uint32_t>(plan->act.size() - (act_n));
+    }
+    Slot& sv = slot[v];
+    last_rlen = code(reader, v, p, count, activity, sv.q);
+    sv.rlen = static_cast<std::uint8_t>(last_rlen);
+    sv.order = i;
+    seq[i] = v;
+  }
+  reserve_huge(q, n);
+  q.resize(n);
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    const Slot& s = slot[seq[i]];
+    q[i] = {s.q[0], s.q[1], s.q[2]};
+  }
+  {
+    // Renumber through a dense map (a quarter of the records' size, so it stays in cache).
+    std::uint32_t* const new_id = scratch.array<std::uint32_t>(0, nc);  // over the dead wedges
+    for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
+    for (std::uint32_t& v : t.vertex) v = new_id[v];
+  }
+  if (anchored && n > nc) {
+    // Each isolated vertex is predicted by its anchor, a connected vertex (the nearest, in
+    // the encoder), coded as the gap from the previous one: scan points left out of the
+    // surface lie close to it. The encoder codes them in anchor order and says so in seq.
+    std::vector<std::uint32_t> anchors, by_anchor;
+    if constexpr (requires { reader.truth(0); }) {
+      std::vector<QPoint> points(n - nc);
+      for (std::size_t w = nc; w < n; ++w)
+        points[w - nc] = reader.truth(static_cast<std::uint32_t>(w));
+      anchors = nearest_sites(std::span<const QPoint>(q.data(), nc), points);
+      by_anchor.resize(points.size());
+      for (std::uint32_t k = 0; k < by_anchor.size(); ++k) by_anchor[k] = k;
+      std::stable_sort(by_anchor.begin(), by_anchor.end(),
+                       [&](std::uint32_t a, std::uint32_t b) { return anchors[a] < anchors[b]; });
+    }
+    GammaModel gaps;
+    std::uint64_t at = 0;
+    seq.reserve(n);
+    for (std::size_t w = nc; w < n; ++w) {
+      std::uint32_t src = static_cast<std::uint32_t>(w), gap = 0;
+      if (!by_anchor.empty()) {
+        const std::uint32_t k = by_anchor[w - nc];
+        src = nc + k;
+        gap = static_cast<std::uint32_t>(anchors[k] - at);
+      }
+      reader.anchor(gaps, at, nc, gap);
+      const QPoint p = q[static_cast<std::size_t>(at)];
+      last_rlen = code(reader, src, p, 0, last_rlen, q[w].data());
+      seq.push_back(src);
+    }
+    return seq;
+  }
+  // Isolated vertices follow in stream order, predicted from the previous vertex.
+  for (std::size_t w = nc; w < n; ++w) {
+    const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
+    last_rlen = code(reader, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
+  }
+  return seq;
+}
+
+template <class Coder>
+std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& coder,
+                                       std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
+                                       bool select, bool anchored, DegreePlan* plan,
+                                       Scratch& scratch) {
+  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan, scratch)
+                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan, scratch);
+}
+
+}  // namespace
+
+std::size_t degree_scratch_bytes(std::size_t n_corners, std::size_t n_vertices) {
+  return slots_at(n_corners) + (n_vertices + 1) * sizeof(Slot);
+}
+
+std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
+                                                   RansDecoder& rans, BitReader& raw,
+                                                   std::vector<QPoint>& q, Predictor predictor,
+                                                   Blend blend, bool anchor_isolated,
+                                                   Scratch* scratch) {
+  const bool select = predictor == Predictor::kMultiParallelogramSelect;
+  ResidualReader reader(bits, rans, raw,
+                        select || predictor == Predictor::kMultiParallelogramBlend);
+  Scratch own;
+  return degree_pass(table, n, reader, q, blend, nullptr, select, select && anchor_isolated,
+                     nullptr, scratch ? *scratch : own);
+}
+
+std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,
+                                                   unsigned bits, RansEncoder& rans, BitWriter& raw,
+                                                   Predictor predictor, Blend blend, Blend* suggest,
+                                                   bool anchor_isolated, DegreePlan* plan) {
+  const bool select = predictor == Predictor::kMultiParallelogramSelect;
+  ResidualWriter writer(q, bits, rans, raw,
+                        select || predictor == Predictor::kMultiParallelogramBlend);
+  std::vector<QPoint> reordered;
+  Scratch scratch;
+  BlendProbe probe;
+  const bool measure = suggest && !blend.any();
+  std::vector<std::uint32_t> seq =
+      degree_pass(table, q.size(), writer, reordered, blend, measure ? &probe : nullptr, select,
+                  select && anchor_isolated, plan, scratch);
+  if (suggest) *suggest = measure ? probe.best() : Blend{};
+  if (plan) {
+    plan->seq = seq;
+    plan->q = std::move(reordered);
+  }
+  return seq;
+}
+
+std::vector<std::uint32_t> encode_positions_degree_again(CornerTable& table, const DegreePlan& plan,
+                                                         unsigned bits, RansEncoder& rans,
+                                                         BitWriter& raw, Predictor predictor,
+                                                         Blend blend) {
+  // degree_pass's coding step, replayed: positions are traversal positions here.
+  const std::uint32_t nc = table.n_vertices;
+  ResidualWriter writer(plan.q, bits, rans, raw, predictor == Predictor::kMultiParallelogramBlend);
+  std::vector<std::uint8_t> rlen(plan.q.size(), 0);
+  unsigned last_rlen = 0;
+  QPoint scratch;
+  for (std::uint32_t i = 0; i < nc; ++i) {
+    const DegreePlan::Step& st = plan.steps[i];
+    const std::uint32_t act_end =
+        i + 1 < nc ? plan.steps[i + 1].act_begin : static_cast<std::uint32_t>(plan.act.size());
+    unsigned act_sum = 0;
+    for (std::uint32_t j = st.act_begin; j < act_end; ++j) act_sum += rlen[plan.act[j]];
+    const unsigned act_n = act_end - st.act_begin;
+    const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
+    QPoint p{0, 0, 0};
+    if (st.count > 0) {
+      const unsigned k = st.count == 1 ? blend.one : blend.many;
+      for (int x = 0; x < 3; ++x)
+        p[x] = k == 0 ? rounded_mean(st.sum[x], st.count, writer.top())
+                      : blended_mean(st.sum[x], st.ends[x], st.count, k, writer.top());
+    } else if (st.fallback != kNone) {
+      p = plan.q[st.fallback];
+    }
+    last_rlen = writer.code(i, p, st.count, activity, scratch.data());
+    rlen[i] = static_cast<std::uint8_t>(last_rlen);
+  }
+  for (std::size_t w = nc; w < plan.q.size(); ++w) {
+    const QPoint p = w > 0 ? plan.q[w - 1] : QPoint{0, 0, 0};
+    last_rlen = writer.code(static_cast<std::uint32_t>(w), p, 0, last_rlen, scratch.data());
+  }
+  std::vector<std::uint32_t> new_id(nc);
+  for (std::uint32_t i = 0; i < nc; ++i) new_id[plan.seq[i]] = i;
+  for (std::uint32_t& v : table.vertex) v = new_id[v];
+  return plan.seq;
+}
+
+}  // namespace geom::codec::detail

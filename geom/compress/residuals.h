@@ -1,0 +1,213 @@
+#pragma once
+/// \file
+/// Residual coding shared by the predictors that code in traversal order (predict.cpp) and
+/// the degree-order pass (predict_degree.cpp); internal to geom/compress.
+
+#include <geom/compress/predict.h>
+#include <geom/compress/rans.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace geom::codec::detail {
+
+inline constexpr unsigned kLengthClasses = 12;
+
+/// Residual models. A residual's bit length is coded adaptively in a context of its axis,
+/// how many parallelograms backed the prediction (more ⇒ smaller residuals) and the length
+/// of the previous residual (errors are locally correlated); the first bit below the
+/// leading one is modelled too, the rest are raw. Length models have 33 symbols (0–32), or
+/// (predictor 4) only the bits + 2 lengths a grid residual can have: every symbol keeps a
+/// minimum frequency, so 20 unused ones cost about 0.03 bits per residual.
+struct ResidualModels {
+  std::vector<AdaptiveModel> length;
+  std::vector<AdaptiveModel> top;
+  /// kMultiParallelogramSelect's subset masks, one model per number of candidates (2 … 4).
+  std::vector<AdaptiveModel> subset;
+  explicit ResidualModels(unsigned n_lengths = 33)
+      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)) {
+    top.reserve(3 * 33);
+    for (unsigned i = 0; i < 3 * 33; ++i) top.emplace_back(i % 33 <= 2 ? 2 : 4);
+    for (unsigned m = 2; m <= kMaxSelect; ++m) subset.emplace_back((1u << m) - 1);
+  }
+};
+
+/// −log2(f / 2^15) for every frequency f ≤ 2^15: what a symbol of frequency f costs, for the
+/// encoder's choices (a table, since the subset search asks for it a dozen times a vertex).
+inline float symbol_bits(std::uint32_t f) {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(kProbScale + 1);
+    t[0] = float(kProbBits + 1);  // never coded: models keep every frequency ≥ kMinFreq
+    for (std::uint32_t i = 1; i <= kProbScale; ++i) t[i] = float(kProbBits) - std::log2(float(i));
+    return t;
+  }();
+  return table[f];
+}
+
+/// Bits below the leading one that are modelled (the rest are close to uniform).
+inline unsigned modelled_bits(unsigned len) { return len <= 2 ? (len == 2 ? 1 : 0) : 2; }
+
+/// The residual length context: the neighbours' mean residual length (local roughness),
+/// blended with this vertex's previous axis once one is known.
+inline unsigned context(unsigned axis, unsigned count, unsigned prev_len, unsigned activity) {
+  const unsigned cc = count > 2 ? 2 : count;
+  const unsigned blend = axis == 0 ? activity : (prev_len + activity + 1) / 2;
+  const unsigned pl = blend >= kLengthClasses ? kLengthClasses - 1 : blend;
+  return (axis * 3 + cc) * kLengthClasses + pl;
+}
+
+
+/// Decodes a vertex's three residuals onto its prediction (shared by both decoders).
+class ResidualReader {
+ public:
+  ResidualReader(unsigned bits, RansDecoder& rans, BitReader& raw, bool compact = false)
+      : m_(compact ? bits + 2 : 33), rans_(rans), raw_(raw),
+        top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)), bits_(bits) {}
+  std::uint32_t top() const { return top_; }
+  /// Writes the decoded grid point to out; returns the largest residual length.
+  unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
+    unsigned longest = 0;
+    for (unsigned x = 0; x < 3; ++x) {
+      const unsigned len = rans_.decode(m_.length[context(x, count, prev_len_, activity)]);
+      std::uint32_t z = len;  // lengths 0 and 1 are the values 0 and 1
+      if (len >= 2) {
+        if (len > 32) fail("position residual too long");
+        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
+        const std::uint64_t high = (std::uint64_t{1} << mb) | rans_.decode(m_.top[x * 33 + len]);
+        z = static_cast<std::uint32_t>((high << rb) | raw_.get(rb));
+      }
+      const std::int64_t r = (z & 1u) ? -static_cast<std::int64_t>((z >> 1) + 1)
+                                      : static_cast<std::int64_t>(z >> 1);
+      const std::int64_t v = std::int64_t{p[x]} + r;
+      if (v < 0 || v > top_)
+        fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
+      out[x] = static_cast<std::uint32_t>(v);
+      prev_len_ = len;
+      longest = std::max(longest, len);
+    }
+    return longest;
+  }
+  /// kMultiParallelogramSelect: the subset mask (1 … 2^m − 1) of m candidates.
+  template <class Predict>
+  unsigned choose(std::uint32_t, unsigned m, unsigned, unsigned, Predict&&) {
+    return rans_.decode(m_.subset[m - 2]) + 1;
+  }
+  /// An anchored isolated vertex: advances `at` by the coded gap to its anchor.
+  void anchor(GammaModel& gaps, std::uint64_t& at, std::uint32_t n_connected, std::uint32_t) {
+    at += gaps.decode(rans_, raw_);
+    if (at >= n_connected) fail("isolated vertex anchored beyond the connected vertices");
+  }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    throw DecodeError(rans_.offset(),
+                      std::string(what) + " near byte " + std::to_string(rans_.offset()));
+  }
+  ResidualModels m_;
+  RansDecoder& rans_;
+  BitReader& raw_;
+  std::uint32_t top_;
+  unsigned bits_;
+  unsigned prev_len_ = 0;
+};
+
+/// Codes residuals against predictions on the encoder side (the mirror of ResidualReader):
+/// `out` receives the vertex's true grid point.
+class ResidualWriter {
+ public:
+  ResidualWriter(std::span<const QPoint> q, unsigned bits, RansEncoder& rans, BitWriter& raw,
+                 bool compact = false)
+      : m_(compact ? bits + 2 : 33), q_(q), rans_(rans), raw_(raw),
+        top_(static_cast<std::uint32_t>((std::uint64_t{1} << bits) - 1)) {}
+  std::uint32_t top() const { return top_; }
+  const QPoint& truth(std::uint32_t v) const { return q_[v]; }
+  unsigned code(std::uint32_t v, const QPoint& p, unsigned count, unsigned activity,
+                std::uint32_t* out) {
+    unsigned longest = 0;
+    for (unsigned x = 0; x < 3; ++x) {
+      out[x] = q_[v][x];
+      const std::int64_t r = std::int64_t{q_[v][x]} - std::int64_t{p[x]};
+      const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
+      const unsigned len = static_cast<unsigned>(std::bit_width(z));
+      rans_.encode(m_.length[context(x, count, prev_len_, activity)], len);
+      if (len >= 2) {
+        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
+        rans_.encode(m_.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+        raw_.put(z & ((1u << rb) - 1), rb);
+      }
+      prev_len_ = len;
+      longest = std::max(longest, len);
+    }
+    return longest;
+  }
+  /// kMultiParallelogramSelect: codes and returns the subset mask (1 … 2^m − 1) of m
+  /// candidates whose prediction (predict(mask)) codes v in the fewest estimated bits, the
+  /// mask's own symbol included; ties go to the lowest mask.
+  template <class Predict>
+  unsigned choose(std::uint32_t v, unsigned m, unsigned count, unsigned activity,
+                  Predict&& predict) {
+    AdaptiveModel& model = m_.subset[m - 2];
+    unsigned best = 1;
+    float best_bits = 0;
+    for (unsigned mask = 1; mask < (1u << m); ++mask) {
+      const float b =
+          symbol_bits(model.freq(mask - 1)) + estimate(v, predict(mask), count, activity);
+      if (mask == 1 || b < best_bits) best = mask, best_bits = b;
+    }
+    rans_.encode(model, best - 1);
+    return best;
+  }
+  void anchor(GammaModel& gaps, std::uint64_t& at, std::uint32_t, std::uint32_t gap) {
+    gaps.encode(rans_, raw_, gap);
+    at += gap;
+  }
+
+ private:
+  /// The bits code() would spend on v against prediction p, at the models' current state
+  /// (the bits below the leading one counted as raw).
+  float estimate(std::uint32_t v, const QPoint& p, unsigned count, unsigned activity) const {
+    float bits = 0;
+    unsigned prev = prev_len_;
+    for (unsigned x = 0; x < 3; ++x) {
+      const std::int64_t r = std::int64_t{q_[v][x]} - std::int64_t{p[x]};
+      const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
+      const unsigned len = static_cast<unsigned>(std::bit_width(z));
+      bits += symbol_bits(m_.length[context(x, count, prev, activity)].freq(len));
+      if (len >= 2) bits += float(len - 1);
+      prev = len;
+    }
+    return bits;
+  }
+  ResidualModels m_;
+  std::span<const QPoint> q_;
+  RansEncoder& rans_;
+  BitWriter& raw_;
+  std::uint32_t top_;
+  unsigned prev_len_ = 0;
+};
+
+/// The rounded mean of `count` parallelogram sums, clamped to the grid (floor division, so
+/// negative sums round the same on both sides).
+inline std::uint32_t rounded_mean(std::int64_t sum, unsigned count, std::uint32_t top) {
+  std::int64_t m = sum;
+  if (count > 1) {
+    const std::int64_t num = 2 * sum + count, den = 2 * std::int64_t{count};
+    m = num / den;
+    if ((num % den != 0) && (num < 0)) --m;
+  }
+  return static_cast<std::uint32_t>(std::clamp<std::int64_t>(m, 0, top));
+}
+
+/// floor(a / b) for b > 0 (C++ division truncates towards zero).
+template <class T>
+inline T floor_div(T a, T b) {
+  const T d = a / b;
+  return (a % b != 0 && a < 0) ? d - 1 : d;
+}
+
+}  // namespace geom::codec::detail
