@@ -31,6 +31,7 @@ class Scratch {
   T* array(std::size_t at, std::size_t n) {
     static_assert(std::is_trivially_default_constructible_v<T> &&
                   std::is_trivially_destructible_v<T>);
+    if (n == 0) return nullptr;  // an empty stage may have no block to place into
     return std::launder(::new (block_.get() + at) T[n]);
   }
 
