@@ -163,8 +163,9 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     if (!(len > 0) || !std::isfinite(len)) continue;
     const Eigen::Vector3d unit = nrm / len;
     const double weight = 0.5 * len + floor_area;
-    const Quadric q = Quadric::plane_through(a, unit, weight);
-    for (std::uint32_t v : t) vd_[v].q += q, vd_[v].weight += weight;
+    // Each vertex's quadric is stored relative to its own position (see place()).
+    for (std::uint32_t v : t)
+      vd_[v].q += Quadric::plane(unit, unit.dot(pos[v] - a), weight), vd_[v].weight += weight;
   }
 
   // Boundary edges: a→b with no triangle b→a around a. Each gets a constraint plane
@@ -189,9 +190,9 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
       const double len = cn.norm();
       if (options.boundary_weight > 0 && len > 0 && std::isfinite(len)) {
         cn /= len;
-        const Quadric q = Quadric::plane_through(vd_[a].p, cn, options.boundary_weight * e.squaredNorm());
-        vd_[a].q += q;
-        vd_[b].q += q;
+        const double w = options.boundary_weight * e.squaredNorm();
+        vd_[a].q += Quadric::plane(cn, 0.0, w);
+        vd_[b].q += Quadric::plane(cn, cn.dot(e), w);
       }
     }
   }
@@ -308,37 +309,49 @@ bool CollapseEngine::RadixQueue::pop(Candidate& out) {
 }
 
 CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b) const {
+  const Point &pa = vd_[a].p, &pb = vd_[b].p;
+  if (attributes_) [[unlikely]]
+    return place_with_attributes(a, b, vd_[a].q.translated(-pa) + vd_[b].q.translated(-pb));
+  // Each quadric is stored relative to its vertex's position: in model-sized coordinates a
+  // cost of 1e-16 was the difference of O(1) terms, lost to round-off (fandisk). Summed
+  // about a's position, every term stays as small as the edge.
+  const Eigen::Vector3d e = pb - pa;
   Quadric q = vd_[a].q;
-  q += vd_[b].q;
-  if (attributes_) [[unlikely]] return place_with_attributes(a, b, q);
-  if (vd_[a].locked) return {q.evaluate(vd_[a].p), vd_[a].p, 1};
-  if (vd_[b].locked) return {q.evaluate(vd_[b].p), vd_[b].p, 2};
-  const Point mid = 0.5 * (vd_[a].p + vd_[b].p);
-  // Differences below the evaluation's round-off (coordinates are within the unit box)
-  // are ties.
-  const double noise = 1e-12 * (q.a00 + q.a11 + q.a22 + std::abs(q.b0) + std::abs(q.b1) +
-                                std::abs(q.b2) + std::abs(q.c));
+  q += vd_[b].q.translated(-e);
+  // Q at the origin, a's position, is c.
+  const double at_a = q.c < 0.0 ? 0.0 : q.c;
+  if (vd_[a].locked) return {at_a, pa, 1};
+  if (vd_[b].locked) return {q.evaluate(e), pb, 2};
+  const Eigen::Vector3d m = 0.5 * e;
+  // Differences below the evaluation's round-off (coordinates within twice the edge of
+  // the origin) are ties.
+  const double e2 = e.x() * e.x() + e.y() * e.y() + e.z() * e.z();
+  const double noise =
+      kTieTolerance * ((q.a00 + q.a11 + q.a22) * e2 +
+                       (std::abs(q.b0) + std::abs(q.b1) + std::abs(q.b2)) *
+                           (std::abs(e.x()) + std::abs(e.y()) + std::abs(e.z())) +
+                       std::abs(q.c));
   // Which end is cheaper is a coin toss: pick it by index rather than by a branch that
   // would be mispredicted half the time.
-  const double ends[2] = {q.evaluate(vd_[a].p), q.evaluate(vd_[b].p)};
-  const Point* end_points[2] = {&vd_[a].p, &vd_[b].p};
-  const int e = ends[1] < ends[0] - noise;
-  Placement best{ends[e], *end_points[e], 1 + e};
-  const Point opt = q.minimizer(mid);
+  const double ends[2] = {at_a, q.evaluate(e)};
+  const Point* end_points[2] = {&pa, &pb};
+  const int end = ends[1] < ends[0] - noise;
+  Placement best{ends[end], *end_points[end], 1 + end};
+  const Eigen::Vector3d opt = q.minimizer(m);
   // The optimum must stay near the edge: a far-away minimiser of a nearly singular quadric
   // is numerically meaningless even when finite.
-  const double reach = 4.0 * (vd_[a].p - vd_[b].p).squaredNorm();
-  if ((opt - mid).squaredNorm() <= reach) {
+  const double reach = 4.0 * e2;
+  if ((opt - m).squaredNorm() <= reach) {
     // Ties (within round-off) go to the endpoint: its position is then kept bit-exact,
     // which matters on flat regions and at corners where every choice costs ~0.
     const double co = q.evaluate(opt);
-    if (co < best.cost - noise) best = {co, opt, 0};
+    if (co < best.cost - noise) best = {co, pa + opt, 0};
     // The minimiser, taken relative to the midpoint, costs no more than the midpoint
     // (Q(mid + δ) = Q(mid) − Σ (u·r)²/λ over the kept eigenvectors u): no need to try it.
     return best;
   }
-  const double cm = q.evaluate(mid);
-  if (cm < best.cost - noise) best = {cm, mid, 3};
+  const double cm = q.evaluate(m);
+  if (cm < best.cost - noise) best = {cm, 0.5 * (pa + pb), 3};
   return best;
 }
 
@@ -653,7 +666,8 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   vd_[v].ref_begin = new_begin;
   vd_[v].ref_size = static_cast<std::uint32_t>(refs_.size()) - new_begin;
   vd_[u].ref_size = 0;
-  vd_[v].q += vd_[u].q;
+  // Both quadrics move to the survivor's new position, their new origin.
+  vd_[v].q = vd_[v].q.translated(pl.p - vd_[v].p) + vd_[u].q.translated(pl.p - vd_[u].p);
   vd_[v].weight = w;
   vd_[v].p = pl.p;
   // Sources 1 and 2 keep the survivor's own position (run() orders u, v so): its model-unit

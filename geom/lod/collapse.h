@@ -185,6 +185,9 @@ class CollapseEngine {
   static constexpr int kFanMax = 64;
   // cos 127°: CGAL rejects only near-complete folds (179°); this also stops sharp creases.
   static constexpr double kFoldCos = -0.6;
+  // place()'s tie band, relative to the size of the merged quadric's terms about the edge:
+  // about 50 ulps, a few times the round-off of evaluating its ten terms.
+  static constexpr double kTieTolerance = 1e-14;
   // A collapse that leaves a removed position more than √kTipRatio × its RMS quadric error
   // above the new fan is requeued at cost kTipWeight · weight · height² (see tip_cost()).
   static constexpr double kTipRatio = 6.0, kTipWeight = 0.5;

@@ -39,6 +39,15 @@ struct QuadricPair {
     b0 += q.b0, b1 += q.b1, b2 += q.b2, c += q.c;
     return *this;
   }
+  // Quadric::translated(t).
+  void translate(V2 x, V2 y, V2 z) {
+    const V2 ax = a00 * x + a01 * y + a02 * z;
+    const V2 ay = a01 * x + a11 * y + a12 * z;
+    const V2 az = a02 * x + a12 * y + a22 * z;
+    const V2 old0 = b0, old1 = b1, old2 = b2;
+    b0 = old0 + ax, b1 = old1 + ay, b2 = old2 + az;
+    c = c + ((ax + 2.0 * old0) * x + (ay + 2.0 * old1) * y + (az + 2.0 * old2) * z);
+  }
   // Quadric::evaluate without its clamp at 0.
   V2 evaluate(V2 x, V2 y, V2 z) const {
     return a00 * x * x + a11 * y * y + a22 * z * z +
@@ -54,13 +63,21 @@ double clamp0(double v) { return v < 0.0 ? 0.0 : v; }
 std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
                                                       const std::uint32_t* b) const {
   const VertexData &a0 = vd_[a[0]], &a1 = vd_[a[1]], &b0 = vd_[b[0]], &b1 = vd_[b[1]];
-  QuadricPair q(a0.q, a1.q);
-  q += QuadricPair(b0.q, b1.q);
   const V2 ax{a0.p.x(), a1.p.x()}, ay{a0.p.y(), a1.p.y()}, az{a0.p.z(), a1.p.z()};
   const V2 bx{b0.p.x(), b1.p.x()}, by{b0.p.y(), b1.p.y()}, bz{b0.p.z(), b1.p.z()};
-  const V2 mx = 0.5 * (ax + bx), my = 0.5 * (ay + by), mz = 0.5 * (az + bz);
-  const V2 noise = 1e-12 * (q.a00 + q.a11 + q.a22 + abs(q.b0) + abs(q.b1) + abs(q.b2) + abs(q.c));
-  const V2 at_a = q.evaluate(ax, ay, az), at_b = q.evaluate(bx, by, bz);
+  // Both quadrics about a's position, as in place().
+  const V2 ex = bx - ax, ey = by - ay, ez = bz - az;
+  QuadricPair q(a0.q, a1.q);
+  QuadricPair qb(b0.q, b1.q);
+  qb.translate(-ex, -ey, -ez);
+  q += qb;
+  const V2 mx = 0.5 * ex, my = 0.5 * ey, mz = 0.5 * ez;
+  const V2 e2 = ex * ex + ey * ey + ez * ez;
+  const V2 noise =
+      kTieTolerance * ((q.a00 + q.a11 + q.a22) * e2 +
+                       (abs(q.b0) + abs(q.b1) + abs(q.b2)) * (abs(ex) + abs(ey) + abs(ez)) +
+                       abs(q.c));
+  const V2 at_a = q.c, at_b = q.evaluate(ex, ey, ez);
   const V2 at_mid = q.evaluate(mx, my, mz);
 
   // Quadric::minimizer(mid) by its closed form; lanes that need the pseudo-inverse leave below.
@@ -82,8 +99,7 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
   const V2 oy = my + (c01 * rx + c11 * ry + c12 * rz) * inv;
   const V2 oz = mz + (c02 * rx + c12 * ry + c22 * rz) * inv;
   const V2 at_opt = q.evaluate(ox, oy, oz);
-  const V2 ex = ax - bx, ey = ay - by, ez = az - bz;
-  const V2 reach = 4.0 * (ex * ex + ey * ey + ez * ez);
+  const V2 reach = 4.0 * e2;
   const V2 dx = ox - mx, dy = oy - my, dz = oz - mz;
   const V2 away = dx * dx + dy * dy + dz * dz;
 

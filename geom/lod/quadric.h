@@ -52,6 +52,20 @@ struct Quadric {
     return v < 0.0 ? 0.0 : v;
   }
 
+  /// The same quadric about the origin moved by t: Q'(y) = Q(y + t). Translating by a short
+  /// vector keeps a quadric stored relative to a nearby point small in every term, so its
+  /// evaluation does not cancel (Q far from the origin is a difference of large terms).
+  Quadric translated(const Eigen::Vector3d& t) const {
+    Quadric q = *this;
+    const double x = t.x(), y = t.y(), z = t.z();
+    const double ax = a00 * x + a01 * y + a02 * z;
+    const double ay = a01 * x + a11 * y + a12 * z;
+    const double az = a02 * x + a12 * y + a22 * z;
+    q.b0 = b0 + ax, q.b1 = b1 + ay, q.b2 = b2 + az;
+    q.c = c + ((ax + 2 * b0) * x + (ay + 2 * b1) * y + (az + 2 * b2) * z);
+    return q;
+  }
+
   Eigen::Matrix3d matrix() const;
   Eigen::Vector3d vector() const { return {b0, b1, b2}; }
 

@@ -36,6 +36,39 @@ TEST(Quadric, SingularQuadricsStayNearTheReference) {
   EXPECT_LT((p - Point(1, 1, 0)).norm(), 1e-6);
 }
 
+TEST(Quadric, TranslatedKeepsValuesAndSmallTerms) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  const Point far(1e3, -2e3, 5e2);
+  Quadric q = Quadric::plane_through(far, n, 2.0);
+  q += Quadric::plane_through(far, Eigen::Vector3d(1, 0, 0));
+  const Quadric local = q.translated(far);  // about a point on both planes: b, c vanish
+  EXPECT_NEAR(local.c, 0.0, 1e-6);
+  EXPECT_LT(local.vector().norm(), 1e-6);
+  const Eigen::Vector3d y(0.25, -1.5, 2.0);
+  EXPECT_NEAR(local.evaluate(y), q.evaluate(far + y), 1e-6);
+  const double d = n.dot(y);
+  EXPECT_NEAR(local.evaluate(y), 2.0 * d * d + y.x() * y.x(), 1e-9);
+}
+
+TEST(Simplify, FlatPatchFarFromTheCentreCostsNothing) {
+  // A tilted flat grid and, far away, one triangle: normalised, the grid lies far from the
+  // origin. With quadrics about the origin its zero costs came out as the round-off of
+  // O(1) terms (a quadric error of 7e-8 of the size); about each vertex, 6e-11.
+  SurfaceMesh m = test::grid(20);
+  for (Vertex v : m.vertices()) {
+    Point& p = m.position(v);
+    p.z() = 0.3 * p.x() + 0.7 * p.y();
+  }
+  const Vertex a = m.add_vertex(Point(400, 400, 0)), b = m.add_vertex(Point(401, 400, 0));
+  m.add_triangle(a, b, m.add_vertex(Point(400, 401, 0)));
+  const double size = 400 * std::sqrt(2.0);
+  const SimplifyResult r = simplify(m, {.target_faces = 3, .max_error = 1e-9 * size});
+  EXPECT_EQ(r.stop, SimplifyStop::kTargetReached);
+  EXPECT_EQ(r.faces_after, 3u);
+  EXPECT_LE(r.max_quadric_error, 1e-9 * size);
+  test::expect_same_topology(m, r.mesh);
+}
+
 TEST(Simplify, TorusKeepsTopologyAndReachesTarget) {
   const SurfaceMesh m = test::torus(80, 40, 1.0, 0.35, 0.05);
   const SimplifyResult r = simplify(m, {.target_faces = 640});
