@@ -9,7 +9,8 @@
 /// cost while that neighbourhood is in cache; the queue drops the old entries unevaluated
 /// when it next passes over them.
 ///
-/// The queue orders by cost / √(merged face weight) (see priority()). A collapse only adds
+/// The queue orders by cost / √(merged face weight) (see priority(); along a boundary that
+/// weight is capped by the boundary planes' weight). A collapse only adds
 /// quadrics, so costs grow, and in practice faster than that root: the minimum almost never
 /// decreases (the exceptions, about one push in 400 on a noisy torus, and those from
 /// round-off or the endpoint fallback, are queued at the current minimum). The queue is
@@ -188,6 +189,9 @@ class CollapseEngine {
   // place()'s tie band, relative to the size of the merged quadric's terms about the edge:
   // about 50 ulps, a few times the round-off of evaluating its ten terms.
   static constexpr double kTieTolerance = 1e-14;
+  // A boundary collapse's priority counts at most this many times the squared lengths of
+  // the boundary edges merged into its ends as face weight (see priority()).
+  static constexpr double kBoundaryArea = 2.0;
   // A collapse that leaves a removed position more than √kTipRatio × its RMS quadric error
   // above the new fan is requeued at cost kTipWeight · weight · height² (see tip_cost()).
   static constexpr double kTipRatio = 6.0, kTipWeight = 0.5;
@@ -214,6 +218,10 @@ class CollapseEngine {
   std::vector<VertexData> vd_;
   std::vector<Point> model_;     // model units; stale for moved vertices unless record_
   std::vector<std::uint32_t> stamp_;  // apart from vd_: the queue reads them densely
+  // Per vertex, the summed squared lengths of the boundary edges whose constraint planes its
+  // quadric holds (priority()); empty for a closed mesh. Apart from vd_, which is full: only
+  // boundary vertices read it.
+  std::vector<double> boundary_length2_;
   std::uint32_t mark_token_ = 0;
 
   std::vector<std::array<std::uint32_t, 3>> triangles_;
