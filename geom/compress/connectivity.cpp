@@ -36,8 +36,9 @@ struct Models {
 /// The open boundary of the decoded region. A gate is a directed edge of a decoded triangle
 /// whose other side is not decoded yet; gates are threaded on per-vertex lists (outgoing
 /// and incoming, newest first) so the boundary neighbours and the zip partner are found in
-/// O(1)/O(valence). Closing a gate only clears its flag and advances list heads past closed
-/// gates (lazy deletion): every head is open, and the lists stay singly linked and small.
+/// O(1)/O(valence). Closing a gate only marks it (`to` = kNone, in the record the lists read
+/// anyway) and advances list heads past closed gates (lazy deletion): every head is open,
+/// and the lists stay singly linked and small.
 struct Gate {
   std::uint32_t from, to, corner;
   std::uint32_t next_out, next_in;
@@ -47,15 +48,12 @@ struct Gate {
 // closed mesh opens about 3T/2). Untouched pages of the block cost nothing.
 std::size_t max_gates_for(std::size_t n_triangles) { return 3 * n_triangles; }
 
-std::size_t gates_at(std::size_t max_gates) { return (max_gates + 7) & ~std::size_t{7}; }
-
 class Region {
  public:
   Region(std::size_t n_triangles, Scratch& scratch) {
     const std::size_t max_gates = max_gates_for(n_triangles);
     scratch.reserve(connectivity_scratch_bytes(n_triangles));
-    open_ = scratch.array<std::uint8_t>(0, max_gates);
-    gates_ = scratch.array<Gate>(gates_at(max_gates), max_gates);
+    gates_ = scratch.array<Gate>(0, max_gates);
     out_head_.reserve(n_triangles / 2 + 3);
     in_head_.reserve(n_triangles / 2 + 3);
   }
@@ -72,13 +70,13 @@ class Region {
     if (fan_[v] < kFanClasses - 1) ++fan_[v];
   }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
-  bool is_open(std::uint32_t g) const { return open_[g] != 0; }
+  bool is_open(std::uint32_t g) const { return gates_[g].to != kNone; }
   void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_ + g); }
 
   /// The open gate from a to b, or kNone.
   std::uint32_t find(std::uint32_t a, std::uint32_t b) const {
     for (std::uint32_t g = out_head_[a]; g != kNone; g = gates_[g].next_out)
-      if (open_[g] && gates_[g].to == b) return g;
+      if (gates_[g].to == b) return g;  // closed gates have none
     return kNone;
   }
   /// The boundary vertex after v (head of v's outgoing gates), or kNone.
@@ -94,24 +92,23 @@ class Region {
   std::uint32_t open(std::uint32_t from, std::uint32_t to, std::uint32_t corner) {
     const std::uint32_t id = n_gates_++;
     gates_[id] = {from, to, corner, out_head_[from], in_head_[to]};
-    open_[id] = 1;
     out_head_[from] = id;
     in_head_[to] = id;
     return id;
   }
   void close(std::uint32_t id) {
-    if (!open_[id]) return;
-    open_[id] = 0;
-    const Gate& g = gates_[id];
+    Gate& g = gates_[id];
+    const std::uint32_t to = g.to;
+    if (to == kNone) return;
+    g.to = kNone;
     std::uint32_t& out = out_head_[g.from];
-    while (out != kNone && !open_[out]) out = gates_[out].next_out;
-    std::uint32_t& in = in_head_[g.to];
-    while (in != kNone && !open_[in]) in = gates_[in].next_in;
+    while (out != kNone && !is_open(out)) out = gates_[out].next_out;
+    std::uint32_t& in = in_head_[to];
+    while (in != kNone && !is_open(in)) in = gates_[in].next_in;
   }
 
  private:
-  Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T) of each
-  std::uint8_t* open_;
+  Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T)
   std::uint32_t n_gates_ = 0;
   std::vector<std::uint32_t> out_head_, in_head_;
   std::vector<std::uint8_t> fan_;
@@ -459,8 +456,7 @@ class Decoder {
 }  // namespace
 
 std::size_t connectivity_scratch_bytes(std::size_t n_triangles) {
-  const std::size_t max_gates = max_gates_for(n_triangles);
-  return gates_at(max_gates) + max_gates * sizeof(Gate);
+  return max_gates_for(n_triangles) * sizeof(Gate);
 }
 
 void encode_connectivity(const CornerTable& input, bool polygons, Traversal traversal,
