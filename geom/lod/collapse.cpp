@@ -66,6 +66,9 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
                           std::to_string(options.max_error));
   if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
     throw InvalidArgument("simplify: boundary_weight must be finite and >= 0");
+  if (options.refit_iterations < 0)
+    throw InvalidArgument("simplify: refit_iterations must be >= 0, got " +
+                          std::to_string(options.refit_iterations));
 
   // Dense numbering of the vertices that faces use.
   std::vector<std::uint32_t> dense(mesh.vertices_size(), kNone);

@@ -1,7 +1,9 @@
 #include <geom/lod/collapse.h>
+#include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 
 #include <cmath>
+#include <unordered_set>
 
 namespace geom {
 
@@ -29,6 +31,18 @@ SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options)
   result.faces_after = engine.n_triangles();
   result.collapses = engine.n_collapses();
   result.max_quadric_error = engine.max_error();
+  if (options.refit_iterations > 0) {
+    // Locks name input vertices; the refit needs them in the output's numbering.
+    std::unordered_set<std::uint32_t> locked;
+    for (Vertex v : options.locked) locked.insert(v.idx());
+    std::vector<Vertex> fixed;
+    for (std::size_t i = 0; i < result.vertex_origin.size(); ++i)
+      if (locked.contains(result.vertex_origin[i].idx()))
+        fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
+    const RefitOptions refit{.iterations = options.refit_iterations,
+                             .min_triangle_quality = options.min_triangle_quality};
+    refit_to_surface(result.mesh, mesh, refit, fixed);
+  }
   return result;
 }
 

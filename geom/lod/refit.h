@@ -1,0 +1,41 @@
+#pragma once
+/// \file
+/// Refit a simplified mesh's vertex positions to the surface it was simplified from, keeping
+/// its connectivity: the "fit" step of Hoppe et al.'s mesh optimisation. Edge collapse places
+/// each vertex by the quadrics of the planes it absorbed, which never look at the surface
+/// again; refitting measures where the original surface actually lies relative to the
+/// simplified triangles and moves vertices to shrink those distances.
+///
+/// Ref: Hoppe, DeRose, Duchamp, McDonald, Stuetzle, "Mesh Optimization", SIGGRAPH 1993 (§4.2,
+/// fit step with fixed connectivity; here point-to-plane, one vertex at a time).
+
+#include <geom/core/surface_mesh.h>
+
+#include <cstddef>
+#include <span>
+
+namespace geom {
+
+struct RefitOptions {
+  /// Rounds of (project samples, move every free vertex once).
+  int iterations = 1;
+  /// Regulariser λ·|x − x_current|² relative to the vertex's data weight: keeps directions
+  /// the samples do not constrain (tangential ones) where they are.
+  double regularization = 1.0;
+  /// Surface samples per original triangle on top of its vertices (0: vertices only).
+  int samples_per_triangle = 1;
+  /// A move is halved (twice at most, then dropped) when it would raise the local Hausdorff
+  /// distance (see refit.cpp), turn a fan triangle by 90° or more, or leave one with quality
+  /// 4√3·area/Σ edge² below this (unless it was already worse).
+  double min_triangle_quality = 0.02;
+};
+
+/// Move the non-boundary vertices of the triangle mesh `simplified` towards the surface
+/// `original` (point-to-plane least squares over samples of `original` assigned to their
+/// closest simplified triangle; Gauss–Seidel, one 3×3 solve per vertex). Vertices in `fixed`
+/// and boundary vertices do not move; connectivity never changes.
+/// Complexity: O(iterations · S log F) for S samples and F simplified faces.
+void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
+                      const RefitOptions& options = {}, std::span<const Vertex> fixed = {});
+
+}  // namespace geom

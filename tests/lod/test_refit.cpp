@@ -1,0 +1,88 @@
+// Refitting simplified vertices to the input surface (SimplifyOptions::refit_iterations).
+#include <geom/lod/simplify.h>
+#include <geom/spatial/distance.h>
+
+#include "lod/lod_checks.h"
+#include "spatial/procedural.h"
+
+#include <gtest/gtest.h>
+
+namespace geom {
+namespace {
+
+SimplifyResult simplify_torus(const SurfaceMesh& m, int refit) {
+  return simplify(m, {.ratio = 0.1, .refit_iterations = refit});
+}
+
+TEST(Refit, LowersRmsOnACurvedSurfaceAndKeepsTheGuarantees) {
+  const SurfaceMesh m = test::torus(80, 40);
+  const SimplifyResult plain = simplify_torus(m, 0);
+  const SimplifyResult fitted = simplify_torus(m, 1);
+  // Same collapses, same connectivity: only positions differ.
+  ASSERT_EQ(fitted.faces_after, plain.faces_after);
+  ASSERT_EQ(fitted.mesh.n_vertices(), plain.mesh.n_vertices());
+  test::expect_same_topology(m, fitted.mesh);
+  EXPECT_EQ(test::orientation_disagreements(m, fitted.mesh), 0u);
+  EXPECT_GE(test::min_triangle_quality(fitted.mesh), 0.02);
+  std::size_t moved = 0;
+  for (Vertex v : fitted.mesh.vertices())
+    moved += fitted.mesh.position(v) != plain.mesh.position(v);
+  EXPECT_GT(moved, fitted.mesh.n_vertices() / 2);
+  const MeshDistance a = mesh_distance(m, plain.mesh, {.samples = 50000});
+  const MeshDistance b = mesh_distance(m, fitted.mesh, {.samples = 50000});
+  // Measured: RMS 1.30e-3 -> 1.03e-3, Hausdorff 3.22e-3 -> 3.00e-3 of the diagonal (the guard
+  // keeps each vertex's local worst case from growing).
+  EXPECT_LT(b.relative_rms(), 0.85 * a.relative_rms());
+  EXPECT_LT(b.relative_hausdorff(), a.relative_hausdorff());
+}
+
+TEST(Refit, BoundaryAndLockedVerticesStay) {
+  // An open hemisphere (a boundary circle) with every 17th vertex locked.
+  const SurfaceMesh sphere = test::sphere(24, 48);
+  SurfaceMesh m;
+  std::vector<Vertex> map(sphere.vertices_size());
+  for (Face f : sphere.faces()) {
+    std::vector<Vertex> c;
+    double z = 0;
+    for (Vertex v : sphere.vertices(f)) c.push_back(v), z += sphere.position(v).z();
+    if (z <= 0) continue;
+    for (Vertex& v : c) {
+      if (!map[v.idx()].is_valid()) map[v.idx()] = m.add_vertex(sphere.position(v));
+      v = map[v.idx()];
+    }
+    m.add_triangle(c[0], c[1], c[2]);
+  }
+  std::vector<Vertex> locked;
+  for (Vertex v : m.vertices())
+    if (v.idx() % 17 == 0) locked.push_back(v);
+  const SimplifyResult plain = simplify(m, {.ratio = 0.2, .locked = locked});
+  const SimplifyResult fitted =
+      simplify(m, {.ratio = 0.2, .locked = locked, .refit_iterations = 2});
+  ASSERT_EQ(fitted.mesh.n_vertices(), plain.mesh.n_vertices());
+  test::expect_same_topology(m, fitted.mesh);
+  EXPECT_EQ(test::orientation_disagreements(m, fitted.mesh), 0u);
+  std::size_t kept = 0, moved = 0;
+  for (Vertex v : fitted.mesh.vertices()) {
+    const bool fixed =
+        fitted.mesh.is_boundary(v) || fitted.vertex_origin[v.idx()].idx() % 17 == 0;
+    if (fixed) {
+      ++kept;
+      EXPECT_EQ(fitted.mesh.position(v), plain.mesh.position(v));
+    } else {
+      moved += fitted.mesh.position(v) != plain.mesh.position(v);
+    }
+  }
+  EXPECT_GT(kept, 0u);
+  EXPECT_GT(moved, 0u);
+  const MeshDistance a = mesh_distance(m, plain.mesh, {.samples = 50000});
+  const MeshDistance b = mesh_distance(m, fitted.mesh, {.samples = 50000});
+  EXPECT_LT(b.relative_rms(), 0.9 * a.relative_rms());  // measured 1.79e-3 -> 1.50e-3
+}
+
+TEST(Refit, RejectsNegativeIterations) {
+  const SurfaceMesh m = test::torus(20, 10);
+  EXPECT_THROW(simplify(m, {.refit_iterations = -1}), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace geom
