@@ -1,12 +1,15 @@
 // bench_lod: our quadric simplifier against meshoptimizer, OpenMesh and CGAL on the same
 // inputs and targets; error measured by geom's sampled Hausdorff/RMS tool for everyone.
 //
-//   bench_lod [--faces N] [--peers ours,meshopt,openmesh,cgal,ours_attr,meshopt_attr]
+//   bench_lod [--faces N] [--peers ours,ours_refit,meshopt,openmesh,cgal,ours_attr,meshopt_attr]
 //             [--slow-max-faces N] [--attr-faces N] [--attribute-weight W]
 //
 // Times are process CPU seconds (std::clock), min of 2 runs for the fast methods: every
 // method is single-threaded, and CPU time stays meaningful on a loaded shared machine where
 // wall time does not.
+//
+// ours_refit is ours with SimplifyOptions::refit_iterations = 1 (refit.h), the accuracy mode:
+// its time includes the refit, so the tradeoff chart shows what that accuracy costs.
 //
 // --faces sets the generated torus size (default 1,000,000 triangles); slow peers
 // (OpenMesh, CGAL) run on inputs up to --slow-max-faces (default: all).
@@ -115,10 +118,11 @@ PeerRun simplify_meshopt(const TriangleArrays& in, std::size_t target_faces) {
   return run;
 }
 
-PeerRun simplify_ours(const SurfaceMesh& in, std::size_t target_faces) {
+PeerRun simplify_ours(const SurfaceMesh& in, std::size_t target_faces, int refit = 0) {
   PeerRun run;
   SimplifyResult r;
-  run.seconds = cpu_time_min([&] { r = simplify(in, {.target_faces = target_faces}); }, 2);
+  const SimplifyOptions o{.target_faces = target_faces, .refit_iterations = refit};
+  run.seconds = cpu_time_min([&] { r = simplify(in, o); }, 2);
   run.mesh = to_arrays(r.mesh);
   return run;
 }
@@ -133,7 +137,7 @@ struct Input {
 
 int main(int argc, char** argv) {
   std::size_t torus_faces = 1000000, slow_max = std::numeric_limits<std::size_t>::max();
-  std::set<std::string> peers{"ours", "meshopt", "openmesh", "cgal", "ours_attr", "meshopt_attr"};
+  std::set<std::string> peers{"ours", "ours_refit", "meshopt", "openmesh", "cgal", "ours_attr", "meshopt_attr"};
   std::size_t attr_faces = 0;
   double attr_weight = 1.0;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -199,6 +203,7 @@ int main(int argc, char** argv) {
       };
       if (peers.count("meshopt")) report("meshopt", simplify_meshopt(in.arrays, target));
       if (peers.count("ours")) report("ours", simplify_ours(in.mesh, target));
+      if (peers.count("ours_refit")) report("ours_refit", simplify_ours(in.mesh, target, 1));
       if (f0 <= slow_max) {
         if (peers.count("openmesh")) report("openmesh", simplify_openmesh(in.arrays, target));
         if (peers.count("cgal")) report("cgal", simplify_cgal(in.arrays, target));

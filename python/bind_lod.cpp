@@ -69,6 +69,7 @@ void bind_simplify(py::module_& m) {
             for (std::uint32_t i : ids) o.locked.emplace_back(i);
           })
       .def_readwrite("min_triangle_quality", &SimplifyOptions::min_triangle_quality)
+      .def_readwrite("refit_iterations", &SimplifyOptions::refit_iterations)
       // {"normals" | "uv" | "color": weight} for the enabled attributes (the CLI's names).
       .def_property(
           "attributes",

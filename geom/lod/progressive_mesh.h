@@ -55,7 +55,7 @@ class ProgressiveMesh {
   /// Record the collapse sequence of simplify(mesh, options.simplify) as vertex splits. The
   /// result is at full resolution. Polygons are fan-triangulated; isolated vertices are
   /// dropped.
-  /// Throws: InvalidArgument as simplify() does.
+  /// Throws: InvalidArgument as simplify() does, and for refit_iterations other than 0.
   /// Complexity: O(F log F).
   static ProgressiveMesh build(const SurfaceMesh& mesh, const ProgressiveOptions& options = {});
 

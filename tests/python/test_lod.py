@@ -1,5 +1,7 @@
 """geom.simplify, geom.compare and geom.ProgressiveMesh (geom/lod through the binding)."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -73,6 +75,39 @@ def test_simplify_bad_arguments():
         geom.simplify(mesh, speed=3)
     with pytest.raises(ValueError):
         geom.compare(mesh, geom.Mesh(np.zeros((0, 3)), np.zeros((0, 3), int)))
+
+
+def test_refit_lowers_the_error_and_keeps_the_topology():
+    mesh = torus()
+    plain = geom.simplify(mesh, ratio=0.1)
+    fitted = geom.simplify(mesh, ratio=0.1, refit=1)
+    # The refit moves vertices only: same connectivity, same count.
+    assert fitted.faces_after == plain.faces_after
+    assert np.array_equal(fitted.mesh.faces, plain.mesh.faces)
+    assert not np.array_equal(fitted.mesh.vertices, plain.mesh.vertices)
+    topo = fitted.mesh.analyze()
+    assert (topo.genus, topo.boundary_loops, topo.components) == (1, 0, 1)
+    assert fitted.mesh.validate().ok
+    d0 = geom.compare(mesh, plain.mesh, samples=20000)
+    d1 = geom.compare(mesh, fitted.mesh, samples=20000)
+    assert d1.rms < 0.95 * d0.rms
+    with pytest.raises(ValueError, match="refit_iterations"):
+        geom.simplify(mesh, ratio=0.1, refit=-1)
+    # Vertex splits replay single collapses; a refit of one level cannot be replayed.
+    with pytest.raises(ValueError, match="refit_iterations"):
+        geom.ProgressiveMesh(mesh, refit=1)
+
+
+def test_cli_simplify_refit(tmp_path, run):
+    src = tmp_path / "t.obj"
+    geom.save(torus(), str(src))
+    out = tmp_path / "out.obj"
+    plain = run("simplify", src, out, "--ratio", "0.1", "--measure", "--json")
+    fitted = run("simplify", src, out, "--ratio", "0.1", "--refit", "1", "--measure", "--json", "--force")
+    assert plain.returncode == 0 and fitted.returncode == 0, fitted.stderr
+    assert json.loads(fitted.stdout)["rms"] < json.loads(plain.stdout)["rms"]
+    assert "--refit" in run("simplify", "--help").stdout
+    assert run("simplify", src, tmp_path / "x.obj", "--ratio", "0.1", "--refit", "-1").returncode == 2
 
 
 def test_progressive_mesh_reconstructs_exactly():
