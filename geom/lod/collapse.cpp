@@ -123,6 +123,7 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   std::vector<Point> pos(n);
   for (std::size_t i = 0; i < n; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
 
+  if (options.refit_iterations > 0) merged_into_.assign(n, kNone);
   stamp_.assign(n, 0);
   queue_.watch(stamp_.data());
   for (Vertex v : options.locked)
@@ -686,6 +687,7 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   vd_[v].ref_begin = new_begin;
   vd_[v].ref_size = static_cast<std::uint32_t>(refs_.size()) - new_begin;
   vd_[u].ref_size = 0;
+  if (!merged_into_.empty()) merged_into_[u] = v;
   // Both quadrics move to the survivor's new position, their new origin.
   vd_[v].q = vd_[v].q.translated(pl.p - vd_[v].p) + vd_[u].q.translated(pl.p - vd_[u].p);
   vd_[v].weight = w;
@@ -806,7 +808,8 @@ std::vector<Point> CollapseEngine::normalised_positions() const {
   return p;
 }
 
-SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
+SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
+                                    std::vector<Vertex>* out_survivor) const {
   std::vector<std::uint32_t> index(vd_.size(), kNone);
   std::vector<Point> positions;
   positions.reserve(vd_.size());
@@ -823,6 +826,18 @@ SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin) const {
     if (!tri_alive_[t]) continue;
     const auto& tri = triangles_[t];
     kept.push_back({index[tri[0]], index[tri[1]], index[tri[2]]});
+  }
+  if (out_survivor && !merged_into_.empty()) {
+    // Follow each chain of collapses to its live end, shortening it on the way (halving).
+    std::vector<std::uint32_t> root = merged_into_;
+    for (std::size_t v = 0; v < root.size(); ++v) {
+      std::uint32_t r = static_cast<std::uint32_t>(v);
+      while (root[r] != kNone) {
+        if (root[root[r]] != kNone) root[r] = root[root[r]];
+        r = root[r];
+      }
+      if (index[r] != kNone) (*out_survivor)[vertex_of_[v].idx()] = Vertex(index[r]);
+    }
   }
   SurfaceMesh out = mesh_from_triangles(positions, kept);
   if (attributes_) write_attributes(out);

@@ -84,8 +84,11 @@ class CollapseEngine {
   bool triangle_alive(std::uint32_t t) const { return tri_alive_[t] != 0; }
   bool vertex_alive(std::uint32_t v) const { return vd_[v].ref_size != 0; }
 
-  /// The current mesh; out_origin receives the input vertex of each output vertex.
-  SurfaceMesh extract(std::vector<Vertex>* out_origin) const;
+  /// The current mesh; out_origin receives the input vertex of each output vertex. With
+  /// options.refit_iterations > 0, out_survivor (if given, sized to the input's
+  /// vertices_size()) receives for each input vertex the output vertex it was merged into.
+  SurfaceMesh extract(std::vector<Vertex>* out_origin,
+                      std::vector<Vertex>* out_survivor = nullptr) const;
 
  private:
   // What the main loop reads of a vertex and of its neighbours, together in two cache lines
@@ -239,6 +242,10 @@ class CollapseEngine {
   std::size_t collapses_ = 0;
   double max_error_ = 0;
   bool error_rejected_ = false;
+
+  // Per dense vertex, the vertex it was collapsed into (kNone while alive); kept only for the
+  // refit, which projects the input through it instead of searching the whole output.
+  std::vector<std::uint32_t> merged_into_;
 
   std::vector<CollapseRecord> records_;
   std::vector<std::uint32_t> changed_;

@@ -3,12 +3,15 @@
 #include <geom/spatial/bvh.h>
 
 #include <Eigen/Dense>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace geom {
@@ -20,6 +23,7 @@ struct Sample {
   Point p;
   double w;
   Vertex vertex{};  ///< the original vertex it is, if any
+  Vertex seed{};    ///< an original vertex of its triangle: where its search starts
 };
 
 // The original surface as weighted points: every vertex carries a third of its triangles'
@@ -44,13 +48,13 @@ std::vector<Sample> sample_original(const SurfaceMesh& mesh, int per_triangle) {
         double u = std::fmod(0.5 + 0.7548776662 * (s + 1), 1.0);
         double t = std::fmod(0.5 + 0.5698402910 * (s + 1), 1.0);
         if (u + t > 1) u = 1 - u, t = 1 - t;
-        out.push_back({a + u * (b - a) + t * (c - a), area / per_triangle, Vertex()});
+        out.push_back({a + u * (b - a) + t * (c - a), area / per_triangle, Vertex(), corners[0]});
       }
     }
   }
   for (Vertex v : mesh.vertices())
     if (vertex_area[v.idx()] > 0)
-      out.push_back({mesh.position(v), vertex_area[v.idx()], v});
+      out.push_back({mesh.position(v), vertex_area[v.idx()], v, v});
   return out;
 }
 
@@ -72,23 +76,48 @@ double quality(const Point& a, const Point& b, const Point& c) {
   return l > 0 ? 2 * std::sqrt(3.0) * (b - a).cross(c - a).norm() / l : 0;
 }
 
+// A sample's closest simplified triangle (index into Refitter::tri_), point and barycentrics.
+struct Hit {
+  std::uint32_t t;
+  Point q;
+  std::array<double, 3> beta;
+};
+
 // One sample's pull on one corner of its closest simplified triangle.
 struct Pull {
   std::uint32_t sample;
   double beta;
-  Vector3 n;
+  const Vector3& n;
 };
+
+constexpr std::uint32_t kNoTriangle = 0xffffffffu;
 
 class Refitter {
  public:
   Refitter(SurfaceMesh& mesh, const SurfaceMesh& original, const RefitOptions& options,
-           std::span<const Vertex> fixed)
-      : mesh_(mesh), original_(original), options_(options), free_(mesh.vertices_size(), 1) {
+           std::span<const Vertex> fixed, std::span<const Vertex> survivor)
+      : mesh_(mesh), original_(original), options_(options), survivor_(survivor),
+        free_(mesh.vertices_size(), 1) {
     for (Vertex v : fixed)
       if (v.idx() < free_.size()) free_[v.idx()] = 0;
     // Boundary vertices stay: the simplifier promised to keep boundaries where they are.
     for (Vertex v : mesh.vertices())
       if (mesh.is_isolated(v) || mesh.is_boundary(v)) free_[v.idx()] = 0;
+    // Flat triangles (polygons fanned) and each vertex's triangles: the walk reads them often.
+    const std::size_t nv = mesh.vertices_size();
+    fan_start_.assign(nv + 1, 0);
+    for (Face f : mesh.faces()) {
+      const Halfedge h0 = mesh.halfedge(f);
+      for (Halfedge h = mesh.next(h0); mesh.next(h) != h0; h = mesh.next(h))
+        tri_.push_back({mesh.from_vertex(h0).idx(), mesh.from_vertex(h).idx(), mesh.to_vertex(h).idx()});
+    }
+    for (const auto& t : tri_)
+      for (std::uint32_t v : t) ++fan_start_[v + 1];
+    for (std::size_t v = 0; v < nv; ++v) fan_start_[v + 1] += fan_start_[v];
+    fan_.resize(fan_start_[nv]);
+    std::vector<std::uint32_t> fill(fan_start_.begin(), fan_start_.end() - 1);
+    for (std::uint32_t t = 0; t < tri_.size(); ++t)
+      for (std::uint32_t v : tri_[t]) fan_[fill[v]++] = t;
   }
 
   void iterate(const std::vector<Sample>& samples) {
@@ -100,35 +129,113 @@ class Refitter {
  private:
   // Each sample pulls on the three corners of its closest simplified triangle (CSR by vertex).
   void assign(const std::vector<Sample>& samples) {
-    const TriangleBvh bvh(mesh_);
     const std::size_t nv = mesh_.vertices_size();
-    std::vector<std::array<std::uint32_t, 3>> tri(samples.size());
-    std::vector<std::array<double, 3>> beta(samples.size());
-    std::vector<Vector3> normal(samples.size(), Vector3::Zero());
-    start_.assign(nv + 1, 0);
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const ClosestPoint cp = bvh.closest_point(samples[i].p);
-      if (!cp.found()) continue;
-      const auto [a, b, c] = bvh.triangle(cp.triangle);
+    // Normals at the current positions; a degenerate triangle's (zero) drops its samples.
+    normal_.resize(tri_.size());
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      const auto [a, b, c] = corners(t);
       const Vector3 n = (b - a).cross(c - a);
       const double len = n.norm();
-      if (!(len > 0)) continue;
-      tri[i] = bvh.triangle_indices(cp.triangle);
-      beta[i] = barycentric(cp.point, a, b, c);
-      normal[i] = n / len;
-      for (std::uint32_t k : tri[i]) ++start_[k + 1];
+      normal_[t] = len > 0 ? Vector3(n / len) : Vector3::Zero();
+    }
+    sample_tri_.assign(samples.size(), kNoTriangle);
+    sample_beta_.resize(samples.size());
+    // Walks are independent of each other.
+    constexpr std::uint32_t kAskTree = kNoTriangle - 1;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, samples.size(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t i = range.begin(); i < range.end(); ++i) {
+            Hit hit;
+            if (!walk(samples[i], hit)) {
+              sample_tri_[i] = kAskTree;
+            } else if (!normal_[hit.t].isZero()) {
+              sample_tri_[i] = hit.t;
+              sample_beta_[i] = hit.beta;
+            }
+          }
+        });
+    std::unique_ptr<TriangleBvh> bvh;  // only for samples the walk could not place
+    start_.assign(nv + 1, 0);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      if (sample_tri_[i] == kAskTree) {
+        sample_tri_[i] = kNoTriangle;
+        if (!bvh) {
+          std::vector<Point> pos(nv);
+          for (std::size_t v = 0; v < nv; ++v) pos[v] = mesh_.position(Vertex(v));
+          bvh = std::make_unique<TriangleBvh>(std::move(pos), tri_);
+        }
+        const ClosestPoint cp = bvh->closest_point(samples[i].p);
+        if (!cp.found() || normal_[cp.triangle].isZero()) continue;
+        const auto [a, b, c] = corners(cp.triangle);
+        sample_tri_[i] = cp.triangle;
+        sample_beta_[i] = barycentric(cp.point, a, b, c);
+      }
+      if (sample_tri_[i] != kNoTriangle)
+        for (std::uint32_t k : tri_[sample_tri_[i]]) ++start_[k + 1];
     }
     for (std::size_t v = 0; v < nv; ++v) start_[v + 1] += start_[v];
     pulls_.resize(start_[nv]);
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      if (normal[i].isZero()) continue;
-      for (int k = 0; k < 3; ++k)
-        pulls_[fill[tri[i][k]]++] = {static_cast<std::uint32_t>(i), beta[i][k], normal[i]};
+    // 4 bytes a pull (sample, corner): at 1.5M samples a fat record was 180 MB to write.
+    for (std::uint32_t i = 0; i < samples.size(); ++i) {
+      if (sample_tri_[i] == kNoTriangle) continue;
+      for (std::uint32_t k = 0; k < 3; ++k) pulls_[fill[tri_[sample_tri_[i]][k]]++] = i << 2 | k;
     }
-    // Corners of each sample's triangle, to evaluate residuals with current positions.
-    sample_tri_ = std::move(tri);
-    sample_beta_ = std::move(beta);
+  }
+
+  Pull pull(std::uint32_t k) const {
+    const std::uint32_t s = pulls_[k] >> 2;
+    return {s, sample_beta_[s][pulls_[k] & 3], normal_[sample_tri_[s]]};
+  }
+
+  std::array<Point, 3> corners(std::size_t t) const {
+    return {mesh_.position(Vertex(tri_[t][0])), mesh_.position(Vertex(tri_[t][1])),
+            mesh_.position(Vertex(tri_[t][2]))};
+  }
+
+  // The sample's closest triangle, searched from the fan of the output vertex its seed was
+  // collapsed into (it nearly always holds it, or a neighbour does) rather than in a tree over
+  // the whole output: a query then costs a few triangles, not a descent. While the closest
+  // point found lies where no visited vertex has weight (on the far side of the visited
+  // fans), a closer triangle may lie beyond, so that triangle's other corners are visited
+  // too. Like any local search it may settle on a near-closest triangle across a thin gap;
+  // this is a fit, and the Hausdorff guard judges every move. False: no seed, or the walk
+  // wandered too far (the caller asks the tree). (Taking the previous sample's triangle when
+  // the closest point is inside it saves a quarter of the walks' time but is wrong across
+  // concave creases: fandisk's error grew 2700-fold.)
+  bool walk(const Sample& s, Hit& hit) const {
+    if (!s.seed.is_valid() || s.seed.idx() >= survivor_.size()) return false;
+    const Vertex start = survivor_[s.seed.idx()];
+    if (!start.is_valid() || start.idx() + 1 >= fan_start_.size()) return false;
+    constexpr int kMaxVisit = 16;
+    std::array<std::uint32_t, kMaxVisit> visited;
+    int n = 0, scanned = 0;
+    visited[n++] = start.idx();
+    const auto was_visited = [&](std::uint32_t v) {
+      return std::find(visited.begin(), visited.begin() + n, v) != visited.begin() + n;
+    };
+    double best = std::numeric_limits<double>::infinity();
+    for (;;) {
+      for (; scanned < n; ++scanned)
+        for (std::uint32_t k = fan_start_[visited[scanned]]; k < fan_start_[visited[scanned] + 1]; ++k) {
+          const auto [a, b, c] = corners(fan_[k]);
+          const Point q = closest_point_on_triangle(s.p, a, b, c);
+          const double d2 = (q - s.p).squaredNorm();
+          if (d2 < best) best = d2, hit.t = fan_[k], hit.q = q;
+        }
+      if (!(best < std::numeric_limits<double>::infinity())) return false;
+      const auto [a, b, c] = corners(hit.t);
+      hit.beta = barycentric(hit.q, a, b, c);
+      bool inside = false;
+      for (int k = 0; k < 3; ++k) inside = inside || (hit.beta[k] > 1e-9 && was_visited(tri_[hit.t][k]));
+      if (inside) return true;
+      for (std::uint32_t v : tri_[hit.t])
+        if (!was_visited(v)) {
+          if (n == kMaxVisit) return false;
+          visited[n++] = v;
+        }
+    }
   }
 
   // Gauss–Seidel step for v: minimise Σ w (n·(Σ β_j x_j − p))² + λ|x_v − x|² over x_v.
@@ -138,9 +245,9 @@ class Refitter {
     residual_.clear();
     double weight = 0;
     for (std::uint32_t k = start_[v.idx()]; k < start_[v.idx() + 1]; ++k) {
-      const Pull& pull = pulls_[k];
+      const Pull pull = this->pull(k);
       const Sample& s = samples[pull.sample];
-      const auto& t = sample_tri_[pull.sample];
+      const auto& t = tri_[sample_tri_[pull.sample]];
       const auto& b = sample_beta_[pull.sample];
       Point on = Point::Zero();
       for (int j = 0; j < 3; ++j) on += b[j] * mesh_.position(Vertex(t[j]));
@@ -158,26 +265,21 @@ class Refitter {
     // Halve a move that would fold or crush a fan triangle or raise the local Hausdorff
     // distance; give up after a few tries.
     const Point old = mesh_.position(v);
-    for (int tries = 0; tries < 3; ++tries, delta *= 0.5)
-      if (fan_ok(v, old, old + delta) && hausdorff_ok(v, delta, samples)) {
+    bool probed = false;
+    for (int tries = 0; tries < 3; ++tries, delta *= 0.5) {
+      if (!fan_ok(v, old, old + delta)) continue;
+      if (!probed) probe(v, samples), probed = true;
+      if (hausdorff_ok(v, delta)) {
         mesh_.position(v) = old + delta;
         return;
       }
+    }
   }
 
-  // v's distance to the original surface, measured on the fan of the original vertex nearest
-  // to it among its samples (an upper bound; exact when the closest point lies in that fan).
-  double fan_distance(Vertex v, const Point& x, const std::vector<Sample>& samples) const {
-    double best = std::numeric_limits<double>::infinity();
-    Vertex near;
-    for (std::uint32_t k = start_[v.idx()]; k < start_[v.idx() + 1]; ++k) {
-      const Sample& s = samples[pulls_[k].sample];
-      if (!s.vertex.is_valid()) continue;
-      const double d2 = (s.p - x).squaredNorm();
-      if (d2 < best) best = d2, near = s.vertex;
-    }
-    if (!near.is_valid()) return -1;
-    double d2 = best;
+  // Distance from x to the original fan of original vertex `near`: an upper bound on x's
+  // distance to the original surface, exact when the closest point lies in that fan.
+  double fan_distance(Vertex near, const Point& x) const {
+    double d2 = (original_.position(near) - x).squaredNorm();
     for (Halfedge h : original_.outgoing(near)) {
       if (original_.is_boundary(h)) continue;
       const Point& b = original_.position(original_.to_vertex(h));
@@ -188,29 +290,58 @@ class Refitter {
     return std::sqrt(d2);
   }
 
+  // Where the guard watches v's surroundings: v itself (probe 0) and the midpoint of each
+  // edge of v (where the simplified→original distance peaks, unseen by the samples), each
+  // measured on the original fan of the original vertex nearest to it among v's samples.
+  // That vertex is chosen once, before the move, so before and after compare the same bound
+  // and the tries of a halved move cost one fan each, not a search over the samples.
+  void probe(Vertex v, const std::vector<Sample>& samples) {
+    const Point& x = mesh_.position(v);
+    probes_.clear();
+    probes_.push_back({x, Vertex(), std::numeric_limits<double>::infinity(), 0});
+    for (Vertex u : mesh_.vertices(v))
+      probes_.push_back({mesh_.position(u), Vertex(), std::numeric_limits<double>::infinity(), 0});
+    for (std::uint32_t k = start_[v.idx()]; k < start_[v.idx() + 1]; ++k) {
+      const Sample& s = samples[pulls_[k] >> 2];
+      if (!s.vertex.is_valid()) continue;
+      for (std::size_t i = 0; i < probes_.size(); ++i) {
+        const double d2 = (s.p - midpoint(i, x)).squaredNorm();
+        if (d2 < probes_[i].near_d2) probes_[i].near_d2 = d2, probes_[i].near = s.vertex;
+      }
+    }
+    for (std::size_t i = 0; i < probes_.size(); ++i)
+      if (probes_[i].near.is_valid()) probes_[i].before = fan_distance(probes_[i].near, midpoint(i, x));
+  }
+
+  // Probe i's point with v at x: v itself, or the midpoint of v's edge to a neighbour.
+  Point midpoint(std::size_t i, const Point& x) const {
+    return i == 0 ? x : Point(0.5 * (x + probes_[i].other));
+  }
+
   // Least squares trades the worst point for the typical one, and Hausdorff is the worst. The
   // largest residual of v's samples bounds the local error; after the move it may not exceed
-  // that bound or v's own distance to the original, and v and its edges' midpoints (where the
-  // simplified→original distance peaks, unseen by the samples) may each end no further from
-  // the original than they were or than that bound. Each point is held to its own bound: one
-  // loose estimate must not license growth elsewhere. Without this guard the fit lowered RMS
-  // but raised Hausdorff at 50%.
-  bool hausdorff_ok(Vertex v, const Vector3& delta, const std::vector<Sample>& samples) const {
-    const Point& x = mesh_.position(v);
+  // that bound or v's own distance to the original, and v and its edges' midpoints may each
+  // end no further from the original than they were or than that bound. Each point is held
+  // to its own bound: one loose estimate must not license growth elsewhere. Without this
+  // guard the fit lowered RMS but raised Hausdorff at 50%.
+  bool hausdorff_ok(Vertex v, const Vector3& delta) const {
     double bound = 0, after = 0;
     std::size_t i = 0;
     for (std::uint32_t k = start_[v.idx()]; k < start_[v.idx() + 1]; ++k, ++i) {
-      const Pull& pull = pulls_[k];
+      const Pull pull = this->pull(k);
       bound = std::max(bound, std::abs(residual_[i]));
       after = std::max(after, std::abs(residual_[i] + pull.beta * pull.n.dot(delta)));
     }
-    const double at_v = fan_distance(v, x, samples);
+    const double at_v = probes_[0].near.is_valid() ? probes_[0].before : -1;
     if (after > std::max(bound, at_v)) return false;
-    if (fan_distance(v, x + delta, samples) > std::max(bound, at_v)) return false;
-    for (Vertex u : mesh_.vertices(v)) {
-      const Point& y = mesh_.position(u);
-      const double was = fan_distance(v, 0.5 * (x + y), samples);
-      if (fan_distance(v, 0.5 * (x + delta + y), samples) > std::max(bound, was)) return false;
+    const Point moved = mesh_.position(v) + delta;
+    for (std::size_t p = 0; p < probes_.size(); ++p) {
+      if (!probes_[p].near.is_valid()) continue;
+      const double allowed = std::max(bound, p == 0 ? at_v : probes_[p].before);
+      // A distance moves no more than its point (v by delta, a midpoint by half of it).
+      const double step = (p == 0 ? 1.0 : 0.5) * delta.norm();
+      if (probes_[p].before + step <= allowed) continue;
+      if (fan_distance(probes_[p].near, midpoint(p, moved)) > allowed) return false;
     }
     return true;
   }
@@ -231,22 +362,33 @@ class Refitter {
   SurfaceMesh& mesh_;
   const SurfaceMesh& original_;
   const RefitOptions& options_;
+  std::span<const Vertex> survivor_;
   std::vector<std::uint8_t> free_;
+  std::vector<std::array<std::uint32_t, 3>> tri_;
+  std::vector<std::uint32_t> fan_start_, fan_;  // triangles of each vertex (CSR)
   std::vector<std::uint32_t> start_;
-  std::vector<Pull> pulls_;
+  std::vector<std::uint32_t> pulls_;  // sample << 2 | corner
   std::vector<double> residual_;  // of v's pulls at its current position
-  std::vector<std::array<std::uint32_t, 3>> sample_tri_;
+  struct Probe {
+    Point other;  // the neighbour whose edge midpoint it is (unused for v itself)
+    Vertex near;  // original vertex whose fan measures it
+    double near_d2, before;
+  };
+  std::vector<Probe> probes_;  // of the vertex being moved
+  std::vector<Vector3> normal_;             // of tri_, at the start of the round
+  std::vector<std::uint32_t> sample_tri_;   // each sample's triangle (kNoTriangle: none)
   std::vector<std::array<double, 3>> sample_beta_;
 };
 
 }  // namespace
 
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
-                      const RefitOptions& options, std::span<const Vertex> fixed) {
+                      const RefitOptions& options, std::span<const Vertex> fixed,
+                      std::span<const Vertex> survivor) {
   if (options.iterations <= 0 || simplified.n_faces() == 0) return;
   const std::vector<Sample> samples =
       sample_original(original, std::max(0, options.samples_per_triangle));
-  Refitter refitter(simplified, original, options, fixed);
+  Refitter refitter(simplified, original, options, fixed, survivor);
   for (int it = 0; it < options.iterations; ++it) refitter.iterate(samples);
 }
 

@@ -34,8 +34,13 @@ struct RefitOptions {
 /// `original` (point-to-plane least squares over samples of `original` assigned to their
 /// closest simplified triangle; Gauss–Seidel, one 3×3 solve per vertex). Vertices in `fixed`
 /// and boundary vertices do not move; connectivity never changes.
-/// Complexity: O(iterations · S log F) for S samples and F simplified faces.
+/// `survivor`, when given (simplify() does), names for each vertex of `original` (by index)
+/// the vertex of `simplified` it was collapsed into: each sample's closest triangle is then
+/// searched by walking from that vertex's fan, not in a tree over all of `simplified`.
+/// Complexity: O(iterations · S log F) for S samples and F simplified faces; with
+/// `survivor`, O(iterations · S) in practice.
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
-                      const RefitOptions& options = {}, std::span<const Vertex> fixed = {});
+                      const RefitOptions& options = {}, std::span<const Vertex> fixed = {},
+                      std::span<const Vertex> survivor = {});
 
 }  // namespace geom

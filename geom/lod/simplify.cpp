@@ -27,7 +27,9 @@ SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options)
           ? options.target_faces
           : static_cast<std::size_t>(std::llround(options.ratio * static_cast<double>(result.faces_before)));
   result.stop = engine.run(target);
-  result.mesh = engine.extract(&result.vertex_origin);
+  std::vector<Vertex> survivor;
+  if (options.refit_iterations > 0) survivor.assign(mesh.vertices_size(), Vertex());
+  result.mesh = engine.extract(&result.vertex_origin, &survivor);
   result.faces_after = engine.n_triangles();
   result.collapses = engine.n_collapses();
   result.max_quadric_error = engine.max_error();
@@ -41,7 +43,7 @@ SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options)
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
     const RefitOptions refit{.iterations = options.refit_iterations,
                              .min_triangle_quality = options.min_triangle_quality};
-    refit_to_surface(result.mesh, mesh, refit, fixed);
+    refit_to_surface(result.mesh, mesh, refit, fixed, survivor);
   }
   return result;
 }

@@ -1,4 +1,5 @@
 // Refitting simplified vertices to the input surface (SimplifyOptions::refit_iterations).
+#include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
 
@@ -34,6 +35,24 @@ TEST(Refit, LowersRmsOnACurvedSurfaceAndKeepsTheGuarantees) {
   // keeps each vertex's local worst case from growing).
   EXPECT_LT(b.relative_rms(), 0.85 * a.relative_rms());
   EXPECT_LT(b.relative_hausdorff(), a.relative_hausdorff());
+}
+
+TEST(Refit, WithoutCollapseHistorySearchesTheWholeOutput) {
+  // refit_to_surface called directly knows no survivors: every sample takes the tree search
+  // instead of the walk simplify() uses. It fits as well.
+  const SurfaceMesh m = test::torus(80, 40);
+  const SimplifyResult plain = simplify_torus(m, 0);
+  const SimplifyResult walked = simplify_torus(m, 1);
+  SurfaceMesh searched = plain.mesh;
+  refit_to_surface(searched, m);
+  test::expect_same_topology(m, searched);
+  EXPECT_EQ(test::orientation_disagreements(m, searched), 0u);
+  const double rms_plain = mesh_distance(m, plain.mesh, {.samples = 50000}).relative_rms();
+  const double rms_walked = mesh_distance(m, walked.mesh, {.samples = 50000}).relative_rms();
+  const double rms_searched = mesh_distance(m, searched, {.samples = 50000}).relative_rms();
+  EXPECT_LT(rms_searched, 0.85 * rms_plain);
+  // On a smooth surface the walk finds the closest triangles too.
+  EXPECT_NEAR(rms_walked, rms_searched, 0.02 * rms_searched);
 }
 
 TEST(Refit, BoundaryAndLockedVerticesStay) {
