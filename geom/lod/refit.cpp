@@ -1,5 +1,6 @@
 #include <geom/lod/refit.h>
 
+#include <geom/core/errors.h>
 #include <geom/spatial/bvh.h>
 
 #include <Eigen/Dense>
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace geom {
@@ -388,6 +390,10 @@ void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
   if (options.iterations <= 0 || simplified.n_faces() == 0) return;
   const std::vector<Sample> samples =
       sample_original(original, std::max(0, options.samples_per_triangle));
+  // A pull packs its sample's index with the corner in 32 bits.
+  if (samples.size() >= (std::size_t{1} << 30))
+    throw InvalidArgument("refit: " + std::to_string(samples.size()) +
+                          " surface samples; at most 2^30 (use fewer samples_per_triangle)");
   Refitter refitter(simplified, original, options, fixed, survivor);
   for (int it = 0; it < options.iterations; ++it) refitter.iterate(samples);
 }

@@ -37,6 +37,7 @@ struct RefitOptions {
 /// `survivor`, when given (simplify() does), names for each vertex of `original` (by index)
 /// the vertex of `simplified` it was collapsed into: each sample's closest triangle is then
 /// searched by walking from that vertex's fan, not in a tree over all of `simplified`.
+/// Throws: InvalidArgument when `original` gives 2^30 samples or more.
 /// Complexity: O(iterations · S log F) for S samples and F simplified faces; with
 /// `survivor`, O(iterations · S) in practice.
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
