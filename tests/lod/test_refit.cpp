@@ -57,20 +57,7 @@ TEST(Refit, WithoutCollapseHistorySearchesTheWholeOutput) {
 
 TEST(Refit, BoundaryAndLockedVerticesStay) {
   // An open hemisphere (a boundary circle) with every 17th vertex locked.
-  const SurfaceMesh sphere = test::sphere(24, 48);
-  SurfaceMesh m;
-  std::vector<Vertex> map(sphere.vertices_size());
-  for (Face f : sphere.faces()) {
-    std::vector<Vertex> c;
-    double z = 0;
-    for (Vertex v : sphere.vertices(f)) c.push_back(v), z += sphere.position(v).z();
-    if (z <= 0) continue;
-    for (Vertex& v : c) {
-      if (!map[v.idx()].is_valid()) map[v.idx()] = m.add_vertex(sphere.position(v));
-      v = map[v.idx()];
-    }
-    m.add_triangle(c[0], c[1], c[2]);
-  }
+  const SurfaceMesh m = test::upper_hemisphere(24, 48);
   std::vector<Vertex> locked;
   for (Vertex v : m.vertices())
     if (v.idx() % 17 == 0) locked.push_back(v);

@@ -247,25 +247,7 @@ TEST(Simplify, TallSpikesAreNotCutOffCheaply) {
 // lost its shape (Hausdorff 1.20e-3 of the diagonal, against 8.6e-4 when the queue ordered
 // by cost alone); with the face weight alone 8.0e-4.
 TEST(Simplify, HalvedHemisphereKeepsItsRim) {
-  const SurfaceMesh sphere = test::sphere(48, 96);
-  SurfaceMesh m;
-  std::vector<Vertex> map(sphere.vertices_size());
-  std::uint32_t seed = 12345;
-  for (Face f : sphere.faces()) {
-    std::vector<Vertex> c;
-    double z = 0;
-    for (Vertex v : sphere.vertices(f)) c.push_back(v), z += sphere.position(v).z();
-    if (z <= 0) continue;
-    for (Vertex& v : c) {
-      if (!map[v.idx()].is_valid()) {
-        seed = seed * 1664525u + 1013904223u;
-        const double jitter = 1.0 + 0.004 * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
-        map[v.idx()] = m.add_vertex(sphere.position(v) * jitter);
-      }
-      v = map[v.idx()];
-    }
-    m.add_triangle(c[0], c[1], c[2]);
-  }
+  const SurfaceMesh m = test::upper_hemisphere(48, 96, 0.004);
   const MeshDistance d = simplified_distance(m, 0.5);
   EXPECT_LT(d.relative_hausdorff(), 1.0e-3);
   EXPECT_LT(d.relative_rms(), 1.7e-4);

@@ -4,6 +4,7 @@
 #include <geom/core/surface_mesh.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -78,6 +79,35 @@ inline SurfaceMesh sphere(int rings, int segments, double radius = 1.0) {
       m.add_triangle(at(r, s), at(r + 1, s + 1), at(r, s + 1));
     }
   for (int s = 0; s < segments; ++s) m.add_triangle(south, at(rings - 1, s + 1), at(rings - 1, s));
+  return m;
+}
+
+/// The faces of sphere(rings, segments) whose corners' mean z is above 0: an open hemisphere
+/// (one boundary circle). jitter > 0 scales each vertex radially by 1 ± jitter/2 (a fixed
+/// linear congruential sequence in order of first use), so no two collapses tie exactly.
+inline SurfaceMesh upper_hemisphere(int rings, int segments, double jitter = 0.0) {
+  const SurfaceMesh sphere = test::sphere(rings, segments);
+  SurfaceMesh m;
+  std::vector<Vertex> map(sphere.vertices_size());
+  std::uint32_t seed = 12345;
+  for (Face f : sphere.faces()) {
+    std::vector<Vertex> c;
+    double z = 0;
+    for (Vertex v : sphere.vertices(f)) c.push_back(v), z += sphere.position(v).z();
+    if (z <= 0) continue;
+    for (Vertex& v : c) {
+      if (!map[v.idx()].is_valid()) {
+        double scale = 1.0;
+        if (jitter > 0) {
+          seed = seed * 1664525u + 1013904223u;
+          scale += jitter * (static_cast<double>(seed >> 8) / (1u << 24) - 0.5);
+        }
+        map[v.idx()] = m.add_vertex(sphere.position(v) * scale);
+      }
+      v = map[v.idx()];
+    }
+    m.add_triangle(c[0], c[1], c[2]);
+  }
   return m;
 }
 
