@@ -123,7 +123,18 @@ class RansDecoder {
 
  private:
   static constexpr std::uint32_t kLow = 1u << 23;
+  // After a symbol x ≥ 2^8 (x ≥ 2^23 before, freq ≥ 32, flat bits ≤ 15), so at most two
+  // bytes are due. Whether one is due is a coin toss to the branch predictor, so away from
+  // the end of the stream their count is computed instead of looped on.
   void renormalise() {
+    if (pos_ + 2 <= size_) [[likely]] {
+      const unsigned n = unsigned{x_ < kLow} + unsigned{x_ < (kLow >> 8)};
+      const std::uint32_t next = (std::uint32_t{data_[pos_]} << 8) | data_[pos_ + 1];
+      const unsigned shift = 8 * n;
+      x_ = static_cast<std::uint32_t>((std::uint64_t{x_} << shift) | (next >> (16 - shift)));
+      pos_ += n;
+      return;
+    }
     while (x_ < kLow) {
       if (pos_ >= size_) fail("rANS stream ends early");
       x_ = (x_ << 8) | data_[pos_++];
@@ -172,11 +183,7 @@ class BitReader {
   /// Throws: DecodeError when the stream has fewer than `bits` bits left.
   std::uint32_t get(unsigned bits) {
     if (bits == 0) return 0;
-    while (fill_ < bits) {
-      if (pos_ >= size_) fail();
-      acc_ |= static_cast<std::uint64_t>(data_[pos_++]) << fill_;
-      fill_ += 8;
-    }
+    if (fill_ < bits) refill(bits);
     const std::uint32_t v = static_cast<std::uint32_t>(acc_ & ((std::uint64_t{1} << bits) - 1));
     acc_ >>= bits;
     fill_ -= bits;
@@ -184,11 +191,29 @@ class BitReader {
   }
 
  private:
+  // Away from the end, eight bytes are loaded at once and as many whole ones kept as fit:
+  // a byte-at-a-time loop's exit is unpredictable (residual widths vary vertex to vertex).
+  void refill(unsigned bits) {
+    if (pos_ + 8 <= size_) [[likely]] {
+      std::uint64_t word = 0;
+      for (unsigned i = 0; i < 8; ++i) word |= std::uint64_t{data_[pos_ + i]} << (8 * i);
+      acc_ |= word << fill_;
+      pos_ += (63 - fill_) >> 3;
+      fill_ |= 56;
+      return;
+    }
+    while (fill_ < bits) {
+      if (pos_ >= size_) fail();
+      acc_ |= static_cast<std::uint64_t>(data_[pos_++]) << fill_;
+      fill_ += 8;
+    }
+  }
   [[noreturn]] void fail() const;
   const std::uint8_t* data_;
   std::size_t size_;
   std::size_t pos_ = 0;
   std::uint64_t base_;
+  // fill_ valid bits; any above them are copies of the next bytes (refill ORs them again).
   std::uint64_t acc_ = 0;
   unsigned fill_ = 0;
 };
