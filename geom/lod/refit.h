@@ -23,7 +23,9 @@ struct RefitOptions {
   /// the samples do not constrain (tangential ones) where they are.
   double regularization = 1.0;
   /// Surface samples per original triangle on top of its vertices (0: vertices only).
-  int samples_per_triangle = 1;
+  /// Negative: automatic, 1 while the original has fewer than two vertices per simplified
+  /// triangle (a dense output, which its vertices alone fit loosely), else 0.
+  int samples_per_triangle = -1;
   /// A move is halved (twice at most, then dropped) when it would raise the local Hausdorff
   /// distance (see refit.cpp), turn a fan triangle by 90° or more, or leave one with quality
   /// 4√3·area/Σ edge² below this (unless it was already worse).
@@ -32,7 +34,8 @@ struct RefitOptions {
 
 /// Move the non-boundary vertices of the triangle mesh `simplified` towards the surface
 /// `original` (point-to-plane least squares over samples of `original` assigned to their
-/// closest simplified triangle; Gauss–Seidel, one 3×3 solve per vertex). Vertices in `fixed`
+/// closest simplified triangle; Gauss–Seidel, one 3×3 solve per vertex, blocks of vertices
+/// in parallel: the result does not depend on the number of threads). Vertices in `fixed`
 /// and boundary vertices do not move; connectivity never changes.
 /// `survivor`, when given (simplify() does), names for each vertex of `original` (by index)
 /// the vertex of `simplified` it was collapsed into: each sample's closest triangle is then
