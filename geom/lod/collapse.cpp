@@ -10,18 +10,11 @@
 #include <bit>
 #include <cmath>
 #include <limits>
-#include <string>
-#include <unordered_set>
 #include <utility>
 
 namespace geom::detail {
 
 namespace {
-
-std::uint64_t pair_key(Vertex a, Vertex b) {
-  const std::uint64_t lo = std::min(a.idx(), b.idx()), hi = std::max(a.idx(), b.idx());
-  return lo << 32 | hi;
-}
 
 // (b − a) × (c − a), spelled out: GCC leaves Eigen's cross of two difference expressions
 // out of line, a call per triangle in the collapse checks.
@@ -37,190 +30,7 @@ double quality(const Point& a, const Point& b, const Point& c, double area2) {
   return s > 0 ? 2.0 * std::sqrt(3.0) * area2 / s : 0.0;
 }
 
-// The first corner of a polygon whose fan diagonals are neither edges of the mesh nor
-// diagonals of an earlier polygon: such a diagonal (two quads around a valence-2 vertex, say)
-// would give that edge a third and fourth triangle. The first corner when none qualifies.
-std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
-                     const std::unordered_set<std::uint64_t>& diagonals) {
-  const std::size_t k = c.size();
-  for (std::size_t apex = 0; k > 3 && apex < k; ++apex) {
-    bool clear = true;
-    for (std::size_t i = 2; i + 1 < k && clear; ++i) {
-      const Vertex w = c[(apex + i) % k];
-      clear = !mesh.find_edge(c[apex], w).is_valid() && !diagonals.count(pair_key(c[apex], w));
-    }
-    if (clear) return apex;
-  }
-  return 0;
-}
-
 }  // namespace
-
-CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options,
-                               bool record)
-    : options_(options), record_(record) {
-  if (!(options.ratio >= 0.0 && options.ratio <= 1.0))
-    throw InvalidArgument("simplify: ratio must be in [0, 1], got " + std::to_string(options.ratio));
-  if (std::isnan(options.max_error) || options.max_error < 0)
-    throw InvalidArgument("simplify: max_error must be >= 0, got " +
-                          std::to_string(options.max_error));
-  if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
-    throw InvalidArgument("simplify: boundary_weight must be finite and >= 0");
-  if (options.refit_iterations < 0)
-    throw InvalidArgument("simplify: refit_iterations must be >= 0, got " +
-                          std::to_string(options.refit_iterations));
-
-  // Dense numbering of the vertices that faces use.
-  std::vector<std::uint32_t> dense(mesh.vertices_size(), kNone);
-  vertex_of_.reserve(mesh.n_vertices());
-  original_positions_.reserve(mesh.n_vertices());
-  bool closed = true;
-  for (Vertex v : mesh.vertices()) {
-    if (mesh.is_isolated(v)) continue;
-    closed = closed && !mesh.is_boundary(v);
-    dense[v.idx()] = static_cast<std::uint32_t>(vertex_of_.size());
-    vertex_of_.push_back(v);
-    original_positions_.push_back(mesh.position(v));
-  }
-  const std::size_t n = vertex_of_.size();
-  triangles_.reserve(mesh.n_faces() * 2);
-  advise_huge_pages(triangles_.data(), triangles_.capacity() * sizeof(triangles_[0]));
-  std::vector<Vertex> corners;
-  std::unordered_set<std::uint64_t> diagonals;
-  for (Face f : mesh.faces()) {
-    corners.clear();
-    for (Vertex v : mesh.vertices(f)) corners.push_back(v);
-    const std::size_t apex = fan_apex(mesh, corners, diagonals);
-    const std::size_t k = corners.size();
-    for (std::size_t i = 2; i + 1 < k; ++i)
-      diagonals.insert(pair_key(corners[apex], corners[(apex + i) % k]));
-    for (std::size_t i = 1; i + 1 < k; ++i)
-      triangles_.push_back({dense[corners[apex].idx()], dense[corners[(apex + i) % k].idx()],
-                            dense[corners[(apex + i + 1) % k].idx()]});
-  }
-  if (record_) original_triangles_ = triangles_;
-  tri_alive_.assign(triangles_.size(), 1);
-  alive_triangles_ = triangles_.size();
-
-  // Work in a box of unit diagonal centred at the origin, so that quadric coefficients and
-  // tolerances mean the same at 1e-9 and at 1e9.
-  Eigen::AlignedBox3d box;
-  box.setEmpty();
-  for (const Point& p : original_positions_) box.extend(p);
-  if (n > 0) {
-    center_ = box.center();
-    const double diag = box.diagonal().norm();
-    scale_ = diag > 0 && std::isfinite(diag) ? diag : 1.0;
-  }
-  // Only a progressive mesh needs the input positions once collapses start.
-  model_ = record_ ? original_positions_ : std::move(original_positions_);
-  // Huge pages: the main loop reads these arrays at random, one neighbourhood per collapse.
-  vd_.reserve(n);
-  advise_huge_pages(vd_.data(), n * sizeof(VertexData));
-  vd_.resize(n);
-  // The sweeps over all triangles below read a compact copy of the positions: through vd_,
-  // each corner would bring in a 128-byte record for 24 bytes.
-  std::vector<Point> pos(n);
-  for (std::size_t i = 0; i < n; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
-
-  if (options.refit_iterations > 0) merged_into_.assign(n, kNone);
-  stamp_.assign(n, 0);
-  queue_.watch(stamp_.data());
-  for (Vertex v : options.locked)
-    if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;
-
-  std::vector<std::uint32_t> count(n, 0);
-  for (const auto& t : triangles_)
-    for (std::uint32_t v : t) ++count[v];
-  std::uint32_t offset = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    vd_[v].ref_begin = offset;
-    vd_[v].ref_size = count[v];
-    offset += std::exchange(count[v], offset);
-  }
-  refs_.reserve(3 * static_cast<std::size_t>(offset) + 64);
-  advise_huge_pages(refs_.data(), refs_.capacity() * sizeof(std::uint32_t));
-  refs_.resize(offset);
-  // count[v] is now v's fill cursor: a dense array, where vd_ has a record of two lines.
-  for (std::uint32_t t = 0; t < triangles_.size(); ++t)
-    for (std::uint32_t v : triangles_[t]) refs_[count[v]++] = t;
-
-  // Each face's plane is weighted by its area plus a quarter of the mean area. Pure area
-  // weights (the integral of squared distance) give the best RMS error, but let small
-  // triangles vanish: a spike or crease of tiny faces costs almost nothing to remove, however
-  // far it sticks out, and it then sets the Hausdorff error. The floor keeps every face
-  // counting, as CGAL's unweighted planes do, while large faces still count for more.
-  double total_area = 0;
-  std::vector<double> twice_area(triangles_.size());  // kept for the next sweep: one root per face
-  for (std::size_t f = 0; f < triangles_.size(); ++f) {
-    const auto& t = triangles_[f];
-    const double len = (pos[t[1]] - pos[t[0]]).cross(pos[t[2]] - pos[t[0]]).norm();
-    twice_area[f] = len;
-    if (len > 0 && std::isfinite(len)) total_area += 0.5 * len;
-  }
-  const double floor_area = triangles_.empty() ? 0.0 : 0.25 * total_area / triangles_.size();
-  for (std::size_t f = 0; f < triangles_.size(); ++f) {
-    const auto& t = triangles_[f];
-    const Point &a = pos[t[0]], &b = pos[t[1]], &c = pos[t[2]];
-    const Eigen::Vector3d nrm = (b - a).cross(c - a);
-    const double len = twice_area[f];
-    if (!(len > 0) || !std::isfinite(len)) continue;
-    const Eigen::Vector3d unit = nrm / len;
-    const double weight = 0.5 * len + floor_area;
-    // Each vertex's quadric is stored relative to its own position (see place()).
-    for (std::uint32_t v : t)
-      vd_[v].q += Quadric::plane(unit, unit.dot(pos[v] - a), weight), vd_[v].weight += weight;
-  }
-
-  // Boundary edges: a→b with no triangle b→a around a. Each gets a constraint plane
-  // through the edge, perpendicular to its face, weighted like an area (length²). A closed
-  // mesh has none (its polygons' fans pair every edge), so the search is skipped there.
-  if (!closed) boundary_length2_.assign(n, 0.0);
-  for (std::uint32_t a = 0; a < n && !closed; ++a) {
-    for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i) {
-      const auto& t = triangles_[refs_[i]];
-      const int k = t[0] == a ? 0 : t[1] == a ? 1 : 2;
-      const std::uint32_t b = t[(k + 1) % 3];
-      bool twin = false;
-      for (std::uint32_t j = vd_[a].ref_begin; j < vd_[a].ref_begin + vd_[a].ref_size && !twin; ++j) {
-        const auto& s = triangles_[refs_[j]];
-        const int m = s[0] == a ? 0 : s[1] == a ? 1 : 2;
-        twin = s[(m + 2) % 3] == b;
-      }
-      if (twin) continue;
-      vd_[a].boundary = vd_[b].boundary = 1;
-      const Eigen::Vector3d e = vd_[b].p - vd_[a].p;
-      const Eigen::Vector3d fn = e.cross(vd_[t[(k + 2) % 3]].p - vd_[a].p);
-      Eigen::Vector3d cn = e.cross(fn);
-      const double len = cn.norm();
-      if (options.boundary_weight > 0 && len > 0 && std::isfinite(len)) {
-        cn /= len;
-        const double w = options.boundary_weight * e.squaredNorm();
-        vd_[a].q += Quadric::plane(cn, 0.0, w);
-        vd_[b].q += Quadric::plane(cn, cn.dot(e), w);
-        boundary_length2_[a] += e.squaredNorm();
-        boundary_length2_[b] += e.squaredNorm();
-      }
-    }
-  }
-  if (options.lock_boundary)
-    for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
-  if (options.attributes.any() && !record_) init_attributes(mesh);
-
-  std::vector<Candidate> initial;
-  initial.reserve(3 * n + 16);  // the edges of a closed surface, about
-  for (std::uint32_t a = 0; a < n; ++a) {
-    ++mark_token_;
-    for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i)
-      for (std::uint32_t b : triangles_[refs_[i]])
-        if (b > a && vd_[b].mark != mark_token_ && !(vd_[a].locked && vd_[b].locked)) {
-          vd_[b].mark = mark_token_;
-          initial.push_back({0.0f, a, b, 0});
-        }
-  }
-  set_costs(initial.data(), initial.size());
-  queue_.assign(std::move(initial));
-}
 
 inline std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
   // Non-negative floats order like their bit patterns; NaN goes last.
@@ -249,17 +59,25 @@ void CollapseEngine::RadixQueue::push(Candidate c) {
   ++size_;
 }
 
-void CollapseEngine::RadixQueue::assign(std::vector<Candidate> entries) {
+void CollapseEngine::RadixQueue::assign(const std::vector<EdgeBlock>& blocks) {
   // What settle() would do with them all in one bucket, but with each bucket sized once:
   // grown push by push, the big ones were copied over and over.
-  if (entries.empty()) return;
   last_ = 0xffffffffu;
-  for (const Candidate& c : entries) last_ = std::min(last_, key(c.cost));
+  size_ = 0;
+  for (const EdgeBlock& b : blocks) {
+    for (std::size_t i = 0; i < b.size; ++i) last_ = std::min(last_, key(b.edges[i].cost));
+    size_ += b.size;
+  }
+  if (size_ == 0) {
+    last_ = 0;
+    return;
+  }
   std::array<std::size_t, 33> count{};
-  for (const Candidate& c : entries) ++count[bucket(key(c.cost))];
+  for (const EdgeBlock& b : blocks)
+    for (std::size_t i = 0; i < b.size; ++i) ++count[bucket(key(b.edges[i].cost))];
   for (std::size_t i = 0; i < count.size(); ++i) buckets_[i].reserve(count[i]);
-  for (const Candidate& c : entries) buckets_[bucket(key(c.cost))].push_back(c);
-  size_ = entries.size();
+  for (const EdgeBlock& b : blocks)
+    for (std::size_t i = 0; i < b.size; ++i) buckets_[bucket(key(b.edges[i].cost))].push_back(b.edges[i]);
 }
 
 void CollapseEngine::RadixQueue::settle() {
@@ -269,7 +87,7 @@ void CollapseEngine::RadixQueue::settle() {
     // Every entry of bucket i shares the bits above i with last_; the new minimum splits
     // them into lower buckets, each entry moving at least one bucket down. Outdated entries
     // are dropped on the way, their stamps fetched well ahead so that the misses overlap.
-    std::vector<Candidate>& from = buckets_[i];
+    Bucket& from = buckets_[i];
     std::uint32_t lowest = 0xffffffffu;
     std::size_t kept = 0;
     const std::size_t n = from.size();
@@ -556,7 +374,7 @@ void CollapseEngine::ensure_refs(std::size_t extra) {
   std::size_t live = 0;
   for (const VertexData& d : vd_) live += d.ref_size;
   std::vector<std::uint32_t> fresh;
-  fresh.reserve(std::max(refs_.capacity(), 2 * live + extra + 64));
+  reserve_huge(fresh, std::max(refs_.capacity(), 2 * live + extra + 64));
   for (std::size_t v = 0; v < vd_.size(); ++v) {
     const std::uint32_t begin = vd_[v].ref_begin, size = vd_[v].ref_size;
     vd_[v].ref_begin = static_cast<std::uint32_t>(fresh.size());

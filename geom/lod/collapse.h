@@ -2,7 +2,8 @@
 /// \file
 /// The edge-collapse engine behind simplify() and ProgressiveMesh: flat triangle arrays,
 /// per-vertex incident-triangle lists, Garland–Heckbert quadrics and a monotone priority
-/// queue. Internal to geom/lod.
+/// queue. Internal to geom/lod. The constructor (collapse_setup.cpp) builds them on all
+/// cores, with the same result on any number; the collapses run on one.
 ///
 /// Queue entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
 /// sum means neither changed). A collapse queues every edge of the survivor at its new
@@ -27,6 +28,7 @@
 /// fetched ahead, link by link of the chain record → list → triangles → neighbours, so
 /// the misses of several collapses overlap instead of stalling one after another.
 
+#include <geom/core/huge_pages.h>
 #include <geom/core/surface_mesh.h>
 #include <geom/lod/attribute_quadric.h>
 #include <geom/lod/quadric.h>
@@ -40,6 +42,24 @@
 namespace geom::detail {
 
 inline constexpr std::uint32_t kNone = 0xffffffffu;
+
+/// std::allocator, with the huge-page hint (geom/core/huge_pages.h) on big blocks: for arrays
+/// that grow by megabytes while collapses run, whose fresh pages would otherwise be faulted
+/// in 4 KiB at a time.
+template <class T>
+struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    T* p = std::allocator<T>{}.allocate(n);
+    if (n * sizeof(T) >= kHugePageMinBytes) advise_huge_pages(p, n * sizeof(T));
+    return p;
+  }
+  void deallocate(T* p, std::size_t n) noexcept { std::allocator<T>{}.deallocate(p, n); }
+  friend bool operator==(const HugePageAllocator&, const HugePageAllocator&) { return true; }
+};
 
 /// One performed collapse: vertex u merged into v, v moved to pos_v_after.
 struct CollapseRecord {
@@ -111,6 +131,11 @@ class CollapseEngine {
     float cost;
     std::uint32_t a, b, stamps;
   };
+  // The first entries of the queue, listed by one block of vertices (the constructor).
+  struct EdgeBlock {
+    std::unique_ptr<Candidate[]> edges;
+    std::size_t size = 0;
+  };
   /// The next few entries wait, in order, in a small ring outside the buckets; pushes
   /// cheaper than the buckets' minimum are inserted there. Entries pushed below the last
   /// popped cost (possible only through round-off or the endpoint fallback of the
@@ -120,8 +145,9 @@ class CollapseEngine {
     /// Entries whose stamps no longer match these (one per vertex) are outdated.
     void watch(const std::uint32_t* stamps) { stamps_ = stamps; }
     void push(Candidate c);
-    /// Start from these entries (queue empty): one array, not grown push by push.
-    void assign(std::vector<Candidate> entries);
+    /// Start from the entries of these blocks, in order (queue empty); each bucket is sized
+    /// once, not grown push by push.
+    void assign(const std::vector<EdgeBlock>& blocks);
     /// Remove a current entry of the smallest cost into out; false when none is left.
     bool pop(Candidate& out);
     /// The entry that comes out k pops from now if nothing cheaper is pushed meanwhile
@@ -141,7 +167,8 @@ class CollapseEngine {
     void settle();
     [[gnu::always_inline]] static std::uint32_t key(float cost);
     int bucket(std::uint32_t k) const;
-    std::array<std::vector<Candidate>, 33> buckets_;
+    using Bucket = std::vector<Candidate, HugePageAllocator<Candidate>>;
+    std::array<Bucket, 33> buckets_;
     std::uint32_t last_ = 0;
     std::size_t size_ = 0;  // in buckets_
     const std::uint32_t* stamps_ = nullptr;
@@ -162,6 +189,10 @@ class CollapseEngine {
   /// place(a[k], b[k]).cost for k = 0, 1, bit for bit, in two SIMD lanes
   /// (collapse_costs.cpp).
   std::array<double, 2> place_cost_pair(const std::uint32_t* a, const std::uint32_t* b) const;
+  /// Write a's edges to higher-numbered vertices (unless both ends are locked) to out, each
+  /// once, in order of first appearance around a; return their number (at most
+  /// 2 × a's triangles). Thread-safe.
+  std::uint32_t higher_edges(std::uint32_t a, Candidate* out) const;
   /// Set the cost (the queue's priority) of c[0 .. n), two edges at a time.
   void set_costs(Candidate* c, std::size_t n) const;
   [[gnu::always_inline]] float priority(std::uint32_t a, std::uint32_t b, double cost) const;

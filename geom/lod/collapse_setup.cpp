@@ -1,0 +1,326 @@
+// The engine's setup: the flat triangle arrays, per-vertex triangle lists, quadrics and
+// the queue's first entries, built from a SurfaceMesh. Its sweeps run in parallel blocks
+// whose results do not depend on the split: the engine starts from the same state, bit for
+// bit, on any number of cores.
+
+#include <geom/lod/collapse.h>
+
+#include <geom/core/huge_pages.h>
+
+#include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <unordered_set>
+#include <utility>
+
+namespace geom::detail {
+
+namespace {
+
+std::uint64_t pair_key(Vertex a, Vertex b) {
+  const std::uint64_t lo = std::min(a.idx(), b.idx()), hi = std::max(a.idx(), b.idx());
+  return lo << 32 | hi;
+}
+
+// The first corner of a polygon whose fan diagonals are neither edges of the mesh nor
+// diagonals of an earlier polygon: such a diagonal (two quads around a valence-2 vertex, say)
+// would give that edge a third and fourth triangle. The first corner when none qualifies.
+std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
+                     const std::unordered_set<std::uint64_t>& diagonals) {
+  const std::size_t k = c.size();
+  for (std::size_t apex = 0; k > 3 && apex < k; ++apex) {
+    bool clear = true;
+    for (std::size_t i = 2; i + 1 < k && clear; ++i) {
+      const Vertex w = c[(apex + i) % k];
+      clear = !mesh.find_edge(c[apex], w).is_valid() && !diagonals.count(pair_key(c[apex], w));
+    }
+    if (clear) return apex;
+  }
+  return 0;
+}
+
+// body(begin, end) over the blocks of [0, n), on all cores. The setup's sweeps write each
+// element from one block only, so their results do not depend on the split.
+template <class Body>
+void for_blocks(std::size_t n, std::size_t grain, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                    [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+}
+
+// prefault() on all cores: the kernel clears each fresh page on the thread that maps it.
+void prefault_parallel(void* data, std::size_t bytes) {
+  constexpr std::size_t kBlock = std::size_t{4} << 20;
+  for_blocks((bytes + kBlock - 1) / kBlock, 1, [&](std::size_t begin, std::size_t end) {
+    const std::size_t to = std::min(bytes, end * kBlock);
+    prefault(static_cast<char*>(data) + begin * kBlock, to - begin * kBlock);
+  });
+}
+
+// A triangle mesh without deleted faces (the usual input) goes to out as it is, in parallel;
+// false (out left empty) when there are deleted faces or a polygon.
+bool copy_triangles(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& dense,
+                    std::vector<std::array<std::uint32_t, 3>>& out) {
+  if (mesh.n_faces() != mesh.faces_size()) return false;
+  prefault_parallel(out.data(), mesh.faces_size() * sizeof(out[0]));
+  out.resize(mesh.faces_size());
+  std::atomic<bool> polygon{false};
+  for_blocks(mesh.faces_size(), 16384, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const Halfedge h0 = mesh.halfedge(Face(static_cast<std::uint32_t>(f)));
+      const Halfedge h1 = mesh.next(h0), h2 = mesh.next(h1);
+      if (mesh.next(h2) != h0) polygon.store(true, std::memory_order_relaxed);
+      out[f] = {dense[mesh.to_vertex(h0).idx()], dense[mesh.to_vertex(h1).idx()],
+                dense[mesh.to_vertex(h2).idx()]};
+    }
+  });
+  if (polygon) out.clear();
+  return !polygon;
+}
+
+// Every face to out, polygons as fans from the corner fan_apex() picks.
+void fan_triangulate(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& dense,
+                     std::vector<std::array<std::uint32_t, 3>>& out) {
+  std::vector<Vertex> corners;
+  std::unordered_set<std::uint64_t> diagonals;
+  for (Face f : mesh.faces()) {
+    corners.clear();
+    for (Vertex v : mesh.vertices(f)) corners.push_back(v);
+    const std::size_t apex = fan_apex(mesh, corners, diagonals);
+    const std::size_t k = corners.size();
+    for (std::size_t i = 2; i + 1 < k; ++i)
+      diagonals.insert(pair_key(corners[apex], corners[(apex + i) % k]));
+    for (std::size_t i = 1; i + 1 < k; ++i)
+      out.push_back({dense[corners[apex].idx()], dense[corners[(apex + i) % k].idx()],
+                     dense[corners[(apex + i + 1) % k].idx()]});
+  }
+}
+
+}  // namespace
+
+CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options,
+                               bool record)
+    : options_(options), record_(record) {
+  if (!(options.ratio >= 0.0 && options.ratio <= 1.0))
+    throw InvalidArgument("simplify: ratio must be in [0, 1], got " + std::to_string(options.ratio));
+  if (std::isnan(options.max_error) || options.max_error < 0)
+    throw InvalidArgument("simplify: max_error must be >= 0, got " +
+                          std::to_string(options.max_error));
+  if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
+    throw InvalidArgument("simplify: boundary_weight must be finite and >= 0");
+  if (options.refit_iterations < 0)
+    throw InvalidArgument("simplify: refit_iterations must be >= 0, got " +
+                          std::to_string(options.refit_iterations));
+
+  // Dense numbering of the vertices that faces use, in their order: counted per block of
+  // vertices, then numbered from each block's offset.
+  const auto used = [&](std::size_t v) {
+    return !mesh.is_deleted(Vertex(static_cast<std::uint32_t>(v))) &&
+           !mesh.is_isolated(Vertex(static_cast<std::uint32_t>(v)));
+  };
+  constexpr std::size_t kVertexBlock = 16384;
+  const std::size_t n_blocks = (mesh.vertices_size() + kVertexBlock - 1) / kVertexBlock;
+  std::vector<std::uint32_t> block_start(n_blocks + 1, 0);
+  std::vector<std::uint8_t> block_open(n_blocks, 0);
+  for_blocks(n_blocks, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      for (std::size_t v = k * kVertexBlock; v < std::min(mesh.vertices_size(), (k + 1) * kVertexBlock); ++v)
+        if (used(v)) {
+          ++block_start[k + 1];
+          block_open[k] |= mesh.is_boundary(Vertex(static_cast<std::uint32_t>(v)));
+        }
+  });
+  for (std::size_t k = 0; k < n_blocks; ++k) block_start[k + 1] += block_start[k];
+  const bool closed = std::find(block_open.begin(), block_open.end(), 1) == block_open.end();
+  const std::size_t n = block_start[n_blocks];
+  std::vector<std::uint32_t> dense(mesh.vertices_size(), kNone);
+  vertex_of_.resize(n);
+  reserve_huge(original_positions_, n);
+  original_positions_.resize(n);
+  for_blocks(n_blocks, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      std::uint32_t i = block_start[k];
+      for (std::size_t v = k * kVertexBlock; v < std::min(mesh.vertices_size(), (k + 1) * kVertexBlock); ++v)
+        if (used(v)) {
+          const Vertex vh(static_cast<std::uint32_t>(v));
+          dense[v] = i;
+          vertex_of_[i] = vh;
+          original_positions_[i++] = mesh.position(vh);
+        }
+    }
+  });
+  triangles_.reserve(mesh.n_faces() * 2);
+  advise_huge_pages(triangles_.data(), triangles_.capacity() * sizeof(triangles_[0]));
+  if (!copy_triangles(mesh, dense, triangles_)) fan_triangulate(mesh, dense, triangles_);
+  if (record_) original_triangles_ = triangles_;
+  tri_alive_.assign(triangles_.size(), 1);
+  alive_triangles_ = triangles_.size();
+
+  // Work in a box of unit diagonal centred at the origin, so that quadric coefficients and
+  // tolerances mean the same at 1e-9 and at 1e9.
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const Point& p : original_positions_) box.extend(p);
+  if (n > 0) {
+    center_ = box.center();
+    const double diag = box.diagonal().norm();
+    scale_ = diag > 0 && std::isfinite(diag) ? diag : 1.0;
+  }
+  // Only a progressive mesh needs the input positions once collapses start.
+  model_ = record_ ? original_positions_ : std::move(original_positions_);
+  // Huge pages: the main loop reads these arrays at random, one neighbourhood per collapse.
+  vd_.reserve(n);
+  advise_huge_pages(vd_.data(), n * sizeof(VertexData));
+  prefault_parallel(vd_.data(), n * sizeof(VertexData));
+  vd_.resize(n);
+  // The sweeps over all triangles below read a compact copy of the positions: through vd_,
+  // each corner would bring in a 128-byte record for 24 bytes.
+  std::vector<Point> pos;
+  reserve_huge(pos, n);
+  pos.resize(n);
+  for_blocks(n, 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
+  });
+
+  if (options.refit_iterations > 0) merged_into_.assign(n, kNone);
+  stamp_.assign(n, 0);
+  queue_.watch(stamp_.data());
+  for (Vertex v : options.locked)
+    if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;
+
+  std::vector<std::uint32_t> count(n, 0);
+  for (const auto& t : triangles_)
+    for (std::uint32_t v : t) ++count[v];
+  std::uint32_t offset = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    vd_[v].ref_begin = offset;
+    vd_[v].ref_size = count[v];
+    offset += std::exchange(count[v], offset);
+  }
+  refs_.reserve(3 * static_cast<std::size_t>(offset) + 64);
+  advise_huge_pages(refs_.data(), refs_.capacity() * sizeof(std::uint32_t));
+  prefault_parallel(refs_.data(), std::size_t{offset} * sizeof(std::uint32_t));
+  refs_.resize(offset);
+  // count[v] is now v's fill cursor: a dense array, where vd_ has a record of two lines.
+  for (std::uint32_t t = 0; t < triangles_.size(); ++t)
+    for (std::uint32_t v : triangles_[t]) refs_[count[v]++] = t;
+
+  // Each face's plane is weighted by its area plus a quarter of the mean area. Pure area
+  // weights (the integral of squared distance) give the best RMS error, but let small
+  // triangles vanish: a spike or crease of tiny faces costs almost nothing to remove, however
+  // far it sticks out, and it then sets the Hausdorff error. The floor keeps every face
+  // counting, as CGAL's unweighted planes do, while large faces still count for more.
+  struct Plane {
+    Eigen::Vector3d unit;
+    double len;  // twice the area; unit is meaningless unless it is positive and finite
+  };
+  // Not cleared first: the sweep writes every element, on all cores, faulting its pages in.
+  const std::unique_ptr<Plane[]> planes(new Plane[triangles_.size()]);
+  advise_huge_pages(planes.get(), triangles_.size() * sizeof(Plane));
+  for_blocks(triangles_.size(), 8192, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const auto& t = triangles_[f];
+      const Point &a = pos[t[0]], &b = pos[t[1]], &c = pos[t[2]];
+      const double len = (b - a).cross(c - a).norm();
+      planes[f] = {(b - a).cross(c - a) / len, len};
+    }
+  });
+  double total_area = 0;  // summed in face order: the floor, and so every quadric, stays the same
+  for (std::size_t f = 0; f < triangles_.size(); ++f)
+    if (planes[f].len > 0 && std::isfinite(planes[f].len)) total_area += 0.5 * planes[f].len;
+  const double floor_area = triangles_.empty() ? 0.0 : 0.25 * total_area / triangles_.size();
+  // Each vertex gathers the planes of its triangles in their order (its list is sorted), the
+  // order in which a sweep over the triangles would add them: the same sums, bit for bit,
+  // and no two threads write one vertex.
+  for_blocks(n, 2048, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      VertexData& d = vd_[v];
+      for (std::uint32_t i = d.ref_begin; i < d.ref_begin + d.ref_size; ++i) {
+        const Plane& pl = planes[refs_[i]];
+        if (!(pl.len > 0) || !std::isfinite(pl.len)) continue;
+        const double weight = 0.5 * pl.len + floor_area;
+        // Each vertex's quadric is stored relative to its own position (see place()).
+        d.q += Quadric::plane(pl.unit, pl.unit.dot(pos[v] - pos[triangles_[refs_[i]][0]]), weight);
+        d.weight += weight;
+      }
+    }
+  });
+
+  // Boundary edges: a→b with no triangle b→a around a. Each gets a constraint plane
+  // through the edge, perpendicular to its face, weighted like an area (length²). A closed
+  // mesh has none (its polygons' fans pair every edge), so the search is skipped there.
+  if (!closed) boundary_length2_.assign(n, 0.0);
+  for (std::uint32_t a = 0; a < n && !closed; ++a) {
+    for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i) {
+      const auto& t = triangles_[refs_[i]];
+      const int k = t[0] == a ? 0 : t[1] == a ? 1 : 2;
+      const std::uint32_t b = t[(k + 1) % 3];
+      bool twin = false;
+      for (std::uint32_t j = vd_[a].ref_begin; j < vd_[a].ref_begin + vd_[a].ref_size && !twin; ++j) {
+        const auto& s = triangles_[refs_[j]];
+        const int m = s[0] == a ? 0 : s[1] == a ? 1 : 2;
+        twin = s[(m + 2) % 3] == b;
+      }
+      if (twin) continue;
+      vd_[a].boundary = vd_[b].boundary = 1;
+      const Eigen::Vector3d e = vd_[b].p - vd_[a].p;
+      const Eigen::Vector3d fn = e.cross(vd_[t[(k + 2) % 3]].p - vd_[a].p);
+      Eigen::Vector3d cn = e.cross(fn);
+      const double len = cn.norm();
+      if (options.boundary_weight > 0 && len > 0 && std::isfinite(len)) {
+        cn /= len;
+        const double w = options.boundary_weight * e.squaredNorm();
+        vd_[a].q += Quadric::plane(cn, 0.0, w);
+        vd_[b].q += Quadric::plane(cn, cn.dot(e), w);
+        boundary_length2_[a] += e.squaredNorm();
+        boundary_length2_[b] += e.squaredNorm();
+      }
+    }
+  }
+  if (options.lock_boundary)
+    for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
+  if (options.attributes.any() && !record_) init_attributes(mesh);
+
+  // The queue starts with every edge once, from its lower end a, in the order of a walk over
+  // a's triangles, vertex by vertex. Blocks of vertices list and cost their edges in
+  // parallel, in arrays of their own that the queue then takes in block order: the same
+  // entries, in the same order, as one serial walk.
+  constexpr std::size_t kEdgeBlock = 4096;
+  std::vector<EdgeBlock> blocks((n + kEdgeBlock - 1) / kEdgeBlock);
+  for_blocks(blocks.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::size_t first = k * kEdgeBlock, last = std::min(n, first + kEdgeBlock);
+      std::size_t room = 0;  // each triangle at a adds at most two edges
+      for (std::size_t a = first; a < last; ++a) room += 2 * std::size_t{vd_[a].ref_size};
+      EdgeBlock& block = blocks[k];
+      block.edges.reset(new Candidate[room]);  // not cleared: only the written part is read
+      for (std::size_t a = first; a < last; ++a)
+        block.size += higher_edges(static_cast<std::uint32_t>(a), block.edges.get() + block.size);
+      set_costs(block.edges.get(), block.size);
+    }
+  });
+  // The walks above used no marks; the tokens go on from where a marking walk would leave them.
+  mark_token_ = static_cast<std::uint32_t>(n);
+  queue_.assign(blocks);
+}
+
+std::uint32_t CollapseEngine::higher_edges(std::uint32_t a, Candidate* out) const {
+  std::uint32_t k = 0;
+  const bool locked = vd_[a].locked;
+  for (std::uint32_t i = vd_[a].ref_begin; i < vd_[a].ref_begin + vd_[a].ref_size; ++i)
+    for (std::uint32_t b : triangles_[refs_[i]]) {
+      if (b <= a || (locked && vd_[b].locked)) continue;
+      // A neighbour appears in two of a's triangles: a short scan of what a has so far.
+      std::uint32_t j = 0;
+      while (j < k && out[j].b != b) ++j;
+      if (j == k) out[k++] = {0.0f, a, b, 0};
+    }
+  return k;
+}
+
+}  // namespace geom::detail
