@@ -20,6 +20,7 @@ struct TriangleArrays {
 struct PeerRun {
   TriangleArrays mesh;
   double seconds = 0;  ///< CPU seconds of the simplification call only (no conversions)
+  double wall = 0;     ///< its wall seconds; 0: not measured (the slow single-threaded peers)
 };
 
 /// CGAL Surface_mesh_simplification::edge_collapse with GarlandHeckbert_plane_policies.

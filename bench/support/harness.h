@@ -45,6 +45,25 @@ double cpu_time_min(F&& f, int repeats = 3) {
   return best;
 }
 
+/// Smallest process CPU time and smallest wall time of `repeats` runs of f, in seconds: for
+/// work that may use several cores, where CPU time alone hides the parallel gain.
+struct CpuWall {
+  double cpu, wall;
+};
+template <class F>
+CpuWall cpu_wall_min(F&& f, int repeats = 3) {
+  CpuWall best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for (int i = 0; i < repeats; ++i) {
+    const std::clock_t c0 = std::clock();
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    const auto t1 = std::chrono::steady_clock::now();
+    best.cpu = std::min(best.cpu, static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    best.wall = std::min(best.wall, std::chrono::duration<double>(t1 - t0).count());
+  }
+  return best;
+}
+
 inline std::string fmt(double v, int precision = 3) {
   std::ostringstream s;
   s.precision(precision);
