@@ -2,6 +2,7 @@
 
 #include <geom/core/huge_pages.h>
 
+#include <algorithm>
 #include <string>
 
 namespace geom::codec::detail {
@@ -24,7 +25,7 @@ constexpr unsigned kGateContexts = kFanClasses * kFanClasses * 4;
 /// target, L at the source — the valence idea of Touma–Gotsman) and which of the two
 /// boundary neighbours exist, since a missing neighbour rules a symbol out.
 struct Models {
-  std::vector<AdaptiveModel> gate = std::vector<AdaptiveModel>(kGateContexts, AdaptiveModel(kSymbols));
+  std::vector<SmallModel<kSymbols>> gate = std::vector<SmallModel<kSymbols>>(kGateContexts);
   AdaptiveModel seed_new{2};
   AdaptiveModel diagonal[2] = {AdaptiveModel(2), AdaptiveModel(2)};
   GammaModel other;
@@ -45,55 +46,61 @@ struct Gate {
 };
 
 // A gate is opened by attaching a corner's edge, at most once per corner (any stream; a
-// closed mesh opens about 3T/2). Untouched pages of the block cost nothing.
+// closed mesh opens about 3T/2). One more record is the sentinel that stands for "no gate".
+// Untouched pages of the block cost nothing.
 std::size_t max_gates_for(std::size_t n_triangles) { return 3 * n_triangles; }
 
 class Region {
  public:
-  Region(std::size_t n_triangles, Scratch& scratch) {
-    const std::size_t max_gates = max_gates_for(n_triangles);
+  Region(std::size_t n_triangles, Scratch& scratch) : sentinel_(static_cast<std::uint32_t>(
+                                                          max_gates_for(n_triangles))) {
     scratch.reserve(connectivity_scratch_bytes(n_triangles));
-    gates_ = scratch.array<Gate>(0, max_gates);
-    out_head_.reserve(n_triangles / 2 + 3);
-    in_head_.reserve(n_triangles / 2 + 3);
+    gates_ = scratch.array<Gate>(0, sentinel_ + std::size_t{1});
+    gates_[sentinel_] = {kNone, kNone, kNone, kNone, kNone};
+    vertices_.resize(n_triangles / 2 + 3);
   }
-  std::uint32_t add_vertex() {
-    out_head_.push_back(kNone);
-    in_head_.push_back(kNone);
-    fan_.push_back(0);
-    return static_cast<std::uint32_t>(out_head_.size() - 1);
+  std::uint32_t add_vertex() { return add_vertex_if(true); }
+  /// The id the next vertex gets; it is added only when `take` (no branch on it: the
+  /// record at that id is already blank).
+  std::uint32_t add_vertex_if(bool take) {
+    const std::uint32_t id = n_vertices_;
+    n_vertices_ += take;
+    if (n_vertices_ == vertices_.size()) [[unlikely]]
+      vertices_.resize(2 * vertices_.size());
+    return id;
   }
-  std::uint32_t n_vertices() const { return static_cast<std::uint32_t>(out_head_.size()); }
+  std::uint32_t n_vertices() const { return n_vertices_; }
   /// Decoded triangles around v, saturated at kFanClasses − 1.
-  unsigned fan(std::uint32_t v) const { return fan_[v]; }
-  void add_corner(std::uint32_t v) {
-    if (fan_[v] < kFanClasses - 1) ++fan_[v];
-  }
+  unsigned fan(std::uint32_t v) const { return vertices_[v].fan; }
+  void add_corner(std::uint32_t v) { vertices_[v].fan += vertices_[v].fan < kFanClasses - 1; }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
   bool is_open(std::uint32_t g) const { return gates_[g].to != kNone; }
   void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_ + g); }
 
   /// The open gate from a to b, or kNone.
   std::uint32_t find(std::uint32_t a, std::uint32_t b) const {
-    for (std::uint32_t g = out_head_[a]; g != kNone; g = gates_[g].next_out)
+    for (std::uint32_t g = vertices_[a].out; g != kNone; g = gates_[g].next_out)
       if (gates_[g].to == b) return g;  // closed gates have none
     return kNone;
   }
   /// The boundary vertex after v (head of v's outgoing gates), or kNone.
-  std::uint32_t after(std::uint32_t v) const {
-    const std::uint32_t g = out_head_[v];
-    return g == kNone ? kNone : gates_[g].to;
-  }
+  std::uint32_t after(std::uint32_t v) const { return vertices_[v].after; }
   /// The boundary vertex before v (tail of v's first incoming gate), or kNone.
-  std::uint32_t before(std::uint32_t v) const {
-    const std::uint32_t g = in_head_[v];
-    return g == kNone ? kNone : gates_[g].from;
+  std::uint32_t before(std::uint32_t v) const { return vertices_[v].before; }
+  /// after / before, kNone for v = kNone too (the blank record past the last vertex).
+  std::uint32_t after_or_none(std::uint32_t v) const { return after(std::min(v, n_vertices_)); }
+  std::uint32_t before_or_none(std::uint32_t v) const {
+    return before(std::min(v, n_vertices_));
   }
   std::uint32_t open(std::uint32_t from, std::uint32_t to, std::uint32_t corner) {
     const std::uint32_t id = n_gates_++;
-    gates_[id] = {from, to, corner, out_head_[from], in_head_[to]};
-    out_head_[from] = id;
-    in_head_[to] = id;
+    Vertex& a = vertices_[from];
+    Vertex& b = vertices_[to];
+    gates_[id] = {from, to, corner, a.out, b.in};
+    a.out = id;
+    a.after = to;
+    b.in = id;
+    b.before = from;
     return id;
   }
   void close(std::uint32_t id) {
@@ -101,17 +108,31 @@ class Region {
     const std::uint32_t to = g.to;
     if (to == kNone) return;
     g.to = kNone;
-    std::uint32_t& out = out_head_[g.from];
-    while (out != kNone && !is_open(out)) out = gates_[out].next_out;
-    std::uint32_t& in = in_head_[to];
-    while (in != kNone && !is_open(in)) in = gates_[in].next_in;
+    Vertex& a = vertices_[g.from];
+    while (a.out != kNone && !is_open(a.out)) a.out = gates_[a.out].next_out;
+    a.after = gates_[real(a.out)].to;
+    Vertex& b = vertices_[to];
+    while (b.in != kNone && !is_open(b.in)) b.in = gates_[b.in].next_in;
+    b.before = gates_[real(b.in)].from;
   }
 
  private:
-  Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T)
+  // The lookups of a gate's two ends read one record each, not three arrays, and the
+  // boundary neighbours are kept beside the list heads (updated as the heads move), so
+  // finding them is not a second, dependent load of an old gate.
+  struct Vertex {
+    std::uint32_t out = kNone, in = kNone;  // list heads: newest open gate
+    std::uint32_t after = kNone, before = kNone;  // their far ends
+    std::uint32_t fan = 0;
+  };
+  // kNone (no gate) becomes the sentinel, whose ends are kNone: no branch.
+  std::uint32_t real(std::uint32_t g) const { return std::min(g, sentinel_); }
+
+  Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T) + 1
+  std::uint32_t sentinel_;
   std::uint32_t n_gates_ = 0;
-  std::vector<std::uint32_t> out_head_, in_head_;
-  std::vector<std::uint8_t> fan_;
+  std::uint32_t n_vertices_ = 0;
+  std::vector<Vertex> vertices_;  // blank past n_vertices_, at least one
 };
 
 /// An "other" vertex is usually on the open boundary a few steps beyond the neighbours
@@ -395,39 +416,17 @@ class Decoder {
   unsigned gate_symbol(unsigned ctx, const Gate& gate, std::uint32_t right, std::uint32_t left,
                        Region& region, std::uint32_t& w) {
     const unsigned sym = rans_.decode(m_.gate[ctx]);
-    switch (sym) {
-      case kNew: w = new_vertex(region); break;
-      case kRight:
-        if (right == kNone) fail("R symbol without a next boundary vertex");
-        w = right;
-        break;
-      case kLeft:
-        if (left == kNone) fail("L symbol without a previous boundary vertex");
-        w = left;
-        break;
-      case kRight2:
-        if (right == kNone || (w = region.after(right)) == kNone)
-          fail("R2 symbol without a boundary vertex two steps ahead");
-        break;
-      case kLeft2:
-        if (left == kNone || (w = region.before(left)) == kNone)
-          fail("L2 symbol without a boundary vertex two steps back");
-        break;
-      case kOther: {
-        if (rans_.decode(m_.other_on_boundary)) {
-          const std::uint32_t j = m_.walk.decode(rans_, raw_);
-          if (j >= 2 * kWalkLimit) fail("boundary walk too long");
-          w = walk_to(region, gate.from, gate.to, j);
-          if (w == kNone) fail("boundary walk leaves the boundary");
-          break;
-        }
-        const std::uint32_t back = m_.other.decode(rans_, raw_);
-        if (back >= region.n_vertices()) fail("vertex reference out of range");
-        w = region.n_vertices() - 1 - back;
-        break;
-      }
-      default: break;
-    }
+    // The symbol is hard to predict, so the third vertex is picked from a table of every
+    // candidate rather than by a branch on it; kNone marks the rare symbols (and errors).
+    const std::uint32_t next = region.n_vertices();
+    const std::uint32_t candidates[8] = {next,  right, left, kNone, kNone,
+                                         region.after_or_none(right),
+                                         region.before_or_none(left), kNone};
+    w = candidates[sym & 7];
+    if (w == kNone) [[unlikely]] return rare_symbol(sym, gate, region, w);
+    const bool is_new = sym == kNew;
+    if (next + is_new > max_vertices_) fail("more vertices than corners");
+    region.add_vertex_if(is_new);
     return sym;
   }
   std::uint8_t diagonal(std::uint32_t, std::uint32_t) {
@@ -442,6 +441,27 @@ class Decoder {
   }
 
  private:
+  unsigned rare_symbol(unsigned sym, const Gate& gate, const Region& region, std::uint32_t& w) {
+    switch (sym) {
+      case kRight: fail("R symbol without a next boundary vertex");
+      case kLeft: fail("L symbol without a previous boundary vertex");
+      case kRight2: fail("R2 symbol without a boundary vertex two steps ahead");
+      case kLeft2: fail("L2 symbol without a boundary vertex two steps back");
+      case kOther: break;
+      default: return sym;  // boundary
+    }
+    if (rans_.decode(m_.other_on_boundary)) {
+      const std::uint32_t j = m_.walk.decode(rans_, raw_);
+      if (j >= 2 * kWalkLimit) fail("boundary walk too long");
+      w = walk_to(region, gate.from, gate.to, j);
+      if (w == kNone) fail("boundary walk leaves the boundary");
+      return sym;
+    }
+    const std::uint32_t back = m_.other.decode(rans_, raw_);
+    if (back >= region.n_vertices()) fail("vertex reference out of range");
+    w = region.n_vertices() - 1 - back;
+    return sym;
+  }
   std::uint32_t new_vertex(Region& region) {
     if (region.n_vertices() >= max_vertices_) fail("more vertices than corners");
     return region.add_vertex();
@@ -456,7 +476,7 @@ class Decoder {
 }  // namespace
 
 std::size_t connectivity_scratch_bytes(std::size_t n_triangles) {
-  return max_gates_for(n_triangles) * sizeof(Gate);
+  return (max_gates_for(n_triangles) + 1) * sizeof(Gate);
 }
 
 void encode_connectivity(const CornerTable& input, bool polygons, Traversal traversal,

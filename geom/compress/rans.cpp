@@ -19,29 +19,7 @@ AdaptiveModel::AdaptiveModel(unsigned n_symbols) : n_(n_symbols) {
 }
 
 void AdaptiveModel::rebuild() {
-  std::uint32_t total = 0;
-  for (unsigned s = 0; s < n_; ++s) total += counts_[s];
-  if (total > kCountLimit) {
-    // Halving keeps the model responsive to drift and keeps products below 2^32.
-    total = 0;
-    for (unsigned s = 0; s < n_; ++s) {
-      counts_[s] = (counts_[s] + 1) / 2;
-      total += counts_[s];
-    }
-  }
-  const std::uint32_t spread = kProbScale - n_ * kMinFreq;
-  std::uint32_t sum = 0;
-  unsigned best = 0;
-  std::array<std::uint32_t, kMaxSymbols> f{};
-  for (unsigned s = 0; s < n_; ++s) {
-    f[s] = kMinFreq + static_cast<std::uint32_t>(
-                          static_cast<std::uint64_t>(counts_[s]) * spread / total);
-    sum += f[s];
-    if (counts_[s] > counts_[best]) best = s;
-  }
-  f[best] += kProbScale - sum;
-  cum_[0] = 0;
-  for (unsigned s = 0; s < n_; ++s) cum_[s + 1] = cum_[s] + f[s];
+  detail::rebuild_cumulative(counts_.data(), n_, cum_.data());
   // Boundaries past the alphabet sit above every slot, so find() may count a fixed number.
   for (unsigned s = n_ + 1; s < cum_.size(); ++s) cum_[s] = kProbScale;
   unsigned s = 0;
@@ -49,7 +27,7 @@ void AdaptiveModel::rebuild() {
     while (cum_[s + 1] <= (i << kCoarseShift)) ++s;
     coarse_[i] = static_cast<std::uint8_t>(s);
   }
-  interval_ = std::min<std::uint32_t>(interval_ * 2, 1024);
+  interval_ = std::min<std::uint32_t>(interval_ * 2, detail::kModelMaxInterval);
   until_rebuild_ = interval_;
 }
 

@@ -10,6 +10,7 @@
 
 #include <geom/core/errors.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -27,6 +28,42 @@ inline constexpr std::uint32_t kProbScale = 1u << kProbBits;
 inline constexpr std::uint32_t kMinFreq = 32;
 /// Largest alphabet an AdaptiveModel accepts.
 inline constexpr unsigned kMaxSymbols = 64;
+
+namespace detail {
+inline constexpr std::uint32_t kModelIncrement = 32;
+inline constexpr std::uint32_t kModelCountLimit = 1u << 16;
+inline constexpr std::uint32_t kModelMaxInterval = 1024;
+
+/// The rebuild every adaptive model shares: counts[0..n) (halved first when their total
+/// passes kModelCountLimit) become frequencies of at least kMinFreq summing to 2^15, the
+/// most frequent symbol taking the rounding slack; cum[0..n] receives their running sums.
+template <class Cum>
+void rebuild_cumulative(std::uint32_t* counts, unsigned n, Cum* cum) {
+  std::uint32_t total = 0;
+  for (unsigned s = 0; s < n; ++s) total += counts[s];
+  if (total > kModelCountLimit) {
+    // Halving keeps the model responsive to drift and keeps products below 2^32.
+    total = 0;
+    for (unsigned s = 0; s < n; ++s) {
+      counts[s] = (counts[s] + 1) / 2;
+      total += counts[s];
+    }
+  }
+  const std::uint32_t spread = kProbScale - n * kMinFreq;
+  std::uint32_t sum = 0;
+  unsigned best = 0;
+  std::array<std::uint32_t, kMaxSymbols> f{};
+  for (unsigned s = 0; s < n; ++s) {
+    f[s] = kMinFreq +
+           static_cast<std::uint32_t>(static_cast<std::uint64_t>(counts[s]) * spread / total);
+    sum += f[s];
+    if (counts[s] > counts[best]) best = s;
+  }
+  f[best] += kProbScale - sum;
+  cum[0] = 0;
+  for (unsigned s = 0; s < n; ++s) cum[s + 1] = static_cast<Cum>(cum[s] + f[s]);
+}
+}  // namespace detail
 
 /// An adaptive frequency model over symbols 0..n−1. Counts grow as symbols are coded and the
 /// 15-bit cumulative table is rebuilt at fixed, doubling intervals, so encoder and decoder
@@ -55,13 +92,11 @@ class AdaptiveModel {
   }
   /// Account for one coded symbol.
   void update(unsigned s) {
-    counts_[s] += kIncrement;
+    counts_[s] += detail::kModelIncrement;
     if (--until_rebuild_ == 0) rebuild();
   }
 
  private:
-  static constexpr std::uint32_t kIncrement = 32;
-  static constexpr std::uint32_t kCountLimit = 1u << 16;
   static constexpr unsigned kCoarseShift = 10;
   static constexpr unsigned kBranchFree = 8;
   void rebuild();
@@ -75,12 +110,51 @@ class AdaptiveModel {
   std::array<std::uint8_t, (kProbScale >> kCoarseShift)> coarse_{};
 };
 
+/// An AdaptiveModel of a fixed, small alphabet (N ≤ 8) that codes exactly the same: the
+/// same counts, rebuilds and frequencies. Its hot state fits one cache line, so a coder with
+/// hundreds of contexts (the connectivity gates) keeps them all in L1.
+template <unsigned N>
+class alignas(64) SmallModel {
+  static_assert(N >= 2 && N <= 8);
+
+ public:
+  SmallModel() {
+    counts_.fill(1);
+    rebuild();
+  }
+  static constexpr unsigned size() { return N; }
+  std::uint32_t start(unsigned s) const { return cum_[s]; }
+  std::uint32_t freq(unsigned s) const { return std::uint32_t{cum_[s + 1]} - cum_[s]; }
+  unsigned find(std::uint32_t slot) const {
+    unsigned s = 0;
+    for (unsigned i = 1; i < N; ++i) s += cum_[i] <= slot;
+    return s;
+  }
+  void update(unsigned s) {
+    counts_[s] += detail::kModelIncrement;
+    if (--until_rebuild_ == 0) rebuild();
+  }
+
+ private:
+  void rebuild() {
+    detail::rebuild_cumulative(counts_.data(), N, cum_.data());
+    interval_ = static_cast<std::uint16_t>(
+        std::min<std::uint32_t>(interval_ * 2u, detail::kModelMaxInterval));
+    until_rebuild_ = interval_;
+  }
+  std::array<std::uint16_t, N + 1> cum_{};  // ≤ 2^15
+  std::uint16_t until_rebuild_ = 0;
+  std::uint16_t interval_ = 8;
+  std::array<std::uint32_t, N> counts_{};
+};
+
 /// Collects symbols in coding order and writes them as one rANS stream at finish(). rANS is
 /// last-in first-out, so symbols are buffered and coded in reverse; the models adapt in
 /// forward order on both sides.
 class RansEncoder {
  public:
-  void encode(AdaptiveModel& model, unsigned s) {
+  template <class Model>  // AdaptiveModel or SmallModel
+  void encode(Model& model, unsigned s) {
     entries_.push_back((model.start(s) << 16) | model.freq(s));
     model.update(s);
   }
@@ -106,7 +180,8 @@ class RansDecoder {
   /// Throws: DecodeError when the buffer cannot hold the initial state.
   RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base);
 
-  unsigned decode(AdaptiveModel& model) {
+  template <class Model>  // AdaptiveModel or SmallModel
+  unsigned decode(Model& model) {
     const std::uint32_t slot = x_ & (kProbScale - 1);
     const unsigned s = model.find(slot);
     x_ = model.freq(s) * (x_ >> kProbBits) + slot - model.start(s);
