@@ -7,7 +7,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -31,107 +30,6 @@ double quality(const Point& a, const Point& b, const Point& c, double area2) {
 }
 
 }  // namespace
-
-inline std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
-  // Non-negative floats order like their bit patterns; NaN goes last.
-  if (!(cost >= 0.0f)) return std::isnan(cost) ? 0x7f800000u : 0u;
-  return std::bit_cast<std::uint32_t>(cost);
-}
-
-int CollapseEngine::RadixQueue::bucket(std::uint32_t k) const {
-  return k == last_ ? 0 : 32 - std::countl_zero(k ^ last_);
-}
-
-void CollapseEngine::RadixQueue::push(Candidate c) {
-  std::uint32_t k = key(c.cost);
-  if (k < last_) {
-    // Below the entries still in the buckets: its place is among those taken ahead.
-    std::size_t at = n_ahead_++;
-    for (; at > 0 && key(ahead(at - 1).cost) > k; --at) ahead(at) = ahead(at - 1);
-    ahead(at) = c;
-    if (n_ahead_ <= kAheadMax) return;
-    // Full: the dearest goes back, at last_ (its true cost is at most that).
-    c = ahead(--n_ahead_);
-    k = last_;
-    c.cost = std::bit_cast<float>(k);
-  }
-  buckets_[bucket(k)].push_back(c);
-  ++size_;
-}
-
-void CollapseEngine::RadixQueue::assign(const std::vector<EdgeBlock>& blocks) {
-  // What settle() would do with them all in one bucket, but with each bucket sized once:
-  // grown push by push, the big ones were copied over and over.
-  last_ = 0xffffffffu;
-  size_ = 0;
-  for (const EdgeBlock& b : blocks) {
-    for (std::size_t i = 0; i < b.size; ++i) last_ = std::min(last_, key(b.edges[i].cost));
-    size_ += b.size;
-  }
-  if (size_ == 0) {
-    last_ = 0;
-    return;
-  }
-  std::array<std::size_t, 33> count{};
-  for (const EdgeBlock& b : blocks)
-    for (std::size_t i = 0; i < b.size; ++i) ++count[bucket(key(b.edges[i].cost))];
-  for (std::size_t i = 0; i < count.size(); ++i) buckets_[i].reserve(count[i]);
-  for (const EdgeBlock& b : blocks)
-    for (std::size_t i = 0; i < b.size; ++i) buckets_[bucket(key(b.edges[i].cost))].push_back(b.edges[i]);
-}
-
-void CollapseEngine::RadixQueue::settle() {
-  while (buckets_[0].empty() && size_ > 0) {
-    int i = 1;
-    while (buckets_[i].empty()) ++i;
-    // Every entry of bucket i shares the bits above i with last_; the new minimum splits
-    // them into lower buckets, each entry moving at least one bucket down. Outdated entries
-    // are dropped on the way, their stamps fetched well ahead so that the misses overlap.
-    Bucket& from = buckets_[i];
-    std::uint32_t lowest = 0xffffffffu;
-    std::size_t kept = 0;
-    const std::size_t n = from.size();
-    for (std::size_t j = 0; j < n; ++j) {
-      if (j + 16 < n) {
-        __builtin_prefetch(&stamps_[from[j + 16].a]);
-        __builtin_prefetch(&stamps_[from[j + 16].b]);
-      }
-      if (!current(from[j])) continue;
-      lowest = std::min(lowest, key(from[j].cost));
-      from[kept++] = from[j];
-    }
-    size_ -= n - kept;
-    from.resize(kept);
-    if (kept == 0) continue;
-    last_ = lowest;
-    for (const Candidate& c : from) buckets_[bucket(key(c.cost))].push_back(c);
-    from.clear();
-  }
-}
-
-void CollapseEngine::RadixQueue::top_up() {
-  while (n_ahead_ < kAhead) {
-    settle();
-    if (size_ == 0) return;
-    const Candidate c = buckets_[0].back();
-    buckets_[0].pop_back();
-    --size_;
-    if (!current(c)) continue;
-    // Not cheaper than anything ahead: it goes last.
-    ahead(n_ahead_++) = c;
-  }
-}
-
-bool CollapseEngine::RadixQueue::pop(Candidate& out) {
-  for (;;) {
-    top_up();
-    if (n_ahead_ == 0) return false;
-    out = ahead(0);
-    head_ = (head_ + 1) % kRing;
-    --n_ahead_;
-    if (current(out)) return true;
-  }
-}
 
 CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b) const {
   const Point &pa = vd_[a].p, &pb = vd_[b].p;
@@ -387,8 +285,11 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   // 1 = ok, 0 = topologically or geometrically invalid, 2 = over max_error.
   std::uint32_t opposite[2] = {kNone, kNone};
   int n_shared = 0;
+  // The walk over u's triangles also marks u's neighbours for the link condition below.
+  const std::uint32_t token_u = ++mark_token_;
   for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
+    for (std::uint32_t w : triangles_[t]) vd_[w].mark = token_u;
     if (!has_tri_with(t, v)) continue;
     if (n_shared == 2) return 0;
     const auto& tri = triangles_[t];
@@ -396,6 +297,7 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
     // The collapse would drop the shared triangle from this list: fetch it while the
     // checks below run.
     __builtin_prefetch(refs_.data() + vd_[opposite[n_shared - 1]].ref_begin);
+    __builtin_prefetch(&tri_alive_[t], 1);
   }
   if (n_shared == 0) return 0;
   if (attributes_ && !attributes_allow(u, v, pl)) [[unlikely]] return 0;
@@ -404,12 +306,6 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   if (!boundary_edge && vd_[u].boundary && vd_[v].boundary) return 0;
 
   // Link condition: the common neighbours of u and v are exactly the opposite corners.
-  ++mark_token_;
-  for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
-    const std::uint32_t t = refs_[i];
-    for (std::uint32_t w : triangles_[t]) vd_[w].mark = mark_token_;
-  }
-  const std::uint32_t token_u = mark_token_;
   ++mark_token_;
   int common = 0;
   for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {

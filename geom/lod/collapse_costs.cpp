@@ -78,7 +78,6 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
                        (abs(q.b0) + abs(q.b1) + abs(q.b2)) * (abs(ex) + abs(ey) + abs(ez)) +
                        abs(q.c));
   const V2 at_a = q.c, at_b = q.evaluate(ex, ey, ez);
-  const V2 at_mid = q.evaluate(mx, my, mz);
 
   // Quadric::minimizer(mid) by its closed form; lanes that need the pseudo-inverse leave below.
   const V2 rx = -(q.a00 * mx + q.a01 * my + q.a02 * mz + q.b0);
@@ -102,6 +101,9 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
   const V2 reach = 4.0 * e2;
   const V2 dx = ox - mx, dy = oy - my, dz = oz - mz;
   const V2 away = dx * dx + dy * dy + dz * dz;
+  // The midpoint's cost only where the optimum is out of reach, which is rare.
+  const bool both_near = away[0] <= reach[0] && away[1] <= reach[1];
+  const V2 at_mid = both_near ? V2{0.0, 0.0} : q.evaluate(mx, my, mz);
 
   std::array<double, 2> cost;
   for (int k = 0; k < 2; ++k) {
