@@ -12,7 +12,7 @@ namespace geom::detail {
 void advise_huge_pages([[maybe_unused]] const void* data,
                        [[maybe_unused]] std::size_t bytes) noexcept {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kPage = std::uintptr_t{1} << 21;
+  constexpr std::uintptr_t kPage = kHugePageBytes;
   const auto at = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t begin = (at + kPage - 1) & ~(kPage - 1);
   const std::uintptr_t end = (at + bytes) & ~(kPage - 1);

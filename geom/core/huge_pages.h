@@ -13,6 +13,9 @@
 
 namespace geom::detail {
 
+/// The size (and alignment) of a huge page on x86-64 and most AArch64 Linux systems.
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
 /// Arrays smaller than this gain nothing from the hint.
 inline constexpr std::size_t kHugePageMinBytes = std::size_t{4} << 20;
 

@@ -12,12 +12,6 @@
 
 namespace geom::detail {
 
-namespace {
-
-constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
-
-}  // namespace
-
 inline std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
   // Non-negative floats order like their bit patterns; NaN goes last.
   if (!(cost >= 0.0f)) return std::isnan(cost) ? 0x7f800000u : 0u;

@@ -69,7 +69,7 @@ struct NoInitAllocator : std::allocator<T> {
     else
       std::free(p);
   }
-  static constexpr std::size_t kHugePage = std::size_t{2} << 20;
+  static constexpr std::size_t kHugePage = kHugePageBytes;
   static constexpr std::size_t kHugeThreshold = std::size_t{8} << 20;
 };
 
