@@ -126,8 +126,8 @@ class CollapseEngine {
     /// Entries whose stamps no longer match these (one per vertex) are outdated.
     void watch(const std::uint32_t* stamps) { stamps_ = stamps; }
     void push(Candidate c);
-    /// Start from the entries of these blocks, in order (queue empty); each bucket is sized
-    /// once, not grown push by push.
+    /// Start from the entries of these blocks, in order (queue empty), placed in chunks of
+    /// one slab sized for them all.
     void assign(const std::vector<EdgeBlock>& blocks);
     /// Remove a current entry of the smallest cost into out; false when none is left.
     bool pop(Candidate& out);
