@@ -6,9 +6,10 @@
 //
 // Times are process CPU seconds (std::clock), min of 2 runs for the fast methods: CPU time
 // stays meaningful on a loaded shared machine where wall time does not. Every method is
-// single-threaded except ours, whose setup (a fifth of its time at 1M triangles) and refit
-// run on all cores: its CPU time counts every thread, so the fast methods also get their
-// wall time (min of the same runs; meaningful only on an otherwise idle machine).
+// single-threaded except ours, whose setup (a fifth of its time at 1M triangles), collapses
+// (from 100k triangles, region by region) and refit run on all cores: its CPU time counts
+// every thread, so the fast methods also get their wall time (min of the same runs;
+// meaningful only on an otherwise idle machine).
 //
 // ours_refit is ours with SimplifyOptions::refit_iterations = 1 (refit.h), the accuracy mode:
 // its time includes the refit, so the tradeoff chart shows what that accuracy costs.

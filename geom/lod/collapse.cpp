@@ -1,6 +1,5 @@
 #include <geom/lod/collapse.h>
 
-#include <geom/core/from_triangles.h>
 #include <geom/core/huge_pages.h>
 #include <geom/spatial/bvh.h>
 
@@ -117,36 +116,47 @@ void CollapseEngine::set_costs(Candidate* c, std::size_t n) const {
   if (i < n) c[i].cost = priority(c[i].a, c[i].b, place(c[i].a, c[i].b).cost);
 }
 
-void CollapseEngine::push_vertex_edges(std::uint32_t v) {
-  ++mark_token_;
-  vd_[v].mark = mark_token_;
+void CollapseEngine::push_vertex_edges(Worker& wk, std::uint32_t v) {
+  const std::uint32_t token = ++wk.token;
+  vd_[v].mark = token;
   // Gather first and prefetch the neighbours' quadrics: their cache misses then overlap
   // instead of stalling one placement after another.
-  neighbours_.clear();
+  wk.neighbours.clear();
   for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
     for (std::uint32_t w : triangles_[t])
-      if (vd_[w].mark != mark_token_) {
-        vd_[w].mark = mark_token_;
-        neighbours_.push_back(w);
+      if (vd_[w].mark != token) {
+        vd_[w].mark = token;
+        wk.neighbours.push_back(w);
         __builtin_prefetch(&vd_[w].q);
         __builtin_prefetch(&vd_[w].q.b1);
         __builtin_prefetch(&vd_[w].p);
       }
   }
   // Costs first, two edges at a time (set_costs), then the pushes.
-  pending_.clear();
+  wk.pending.clear();
   const bool v_locked = vd_[v].locked;
-  for (std::uint32_t w : neighbours_)
-    if (!(v_locked && vd_[w].locked)) pending_.push_back({0.0f, v, w, stamp_[v] + stamp_[w]});
-  set_costs(pending_.data(), pending_.size());
-  for (const Candidate& c : pending_) queue_.push(c);
+  for (std::uint32_t w : wk.neighbours)
+    if (!(v_locked && vd_[w].locked)) wk.pending.push_back({0.0f, v, w, stamp_[v] + stamp_[w]});
+  set_costs(wk.pending.data(), wk.pending.size());
+  for (const Candidate& c : wk.pending) push(wk, c);
+}
+
+void CollapseEngine::push(Worker& w, const Candidate& c) {
+  if (parts_ == 0) {
+    w.queue.push(c);
+    return;
+  }
+  const std::uint8_t r = region_[c.a];
+  if (r != kSeam && r == region_[c.b]) workers_[r].queue.push(c);
+  else if (w.in_step) w.staged.push_back(c);
+  else workers_[parts_].queue.push(c);
 }
 
 void CollapseEngine::drop_ref(std::uint32_t w, std::uint32_t t) {
   // Order-preserving: traversal order decides ties, so it stays what it was.
   // The lists are short: a plain loop, not a call to memmove.
-  std::uint32_t* list = refs_.data() + vd_[w].ref_begin;
+  std::uint32_t* list = refs_.get() + vd_[w].ref_begin;
   const std::uint32_t n = vd_[w].ref_size;
   std::uint32_t i = 0;
   while (list[i] != t) ++i;
@@ -191,19 +201,20 @@ void CollapseEngine::fan_face(std::uint32_t t, std::uint32_t moved, const Point&
 // meet at a fold: normals more than acos(kFoldCos) apart. Each triangle alone may pass face_ok
 // and yet the pair fold over; ordered by cost / √weight, such folds showed up on a noisy
 // torus as triangles facing against the input surface.
-bool CollapseEngine::fan_folds(int size) {
+bool CollapseEngine::fan_folds(Worker& w, int size) {
   // Each triangle's neighbour across the edge to its `prev` corner is the one whose `next`
   // that corner is: found through the corner's mark (one token per triangle) rather than by
   // scanning the fan, which cost more than the rest of the check.
-  const std::uint32_t base = mark_token_ + 1;
-  mark_token_ += static_cast<std::uint32_t>(size) + 1;
-  for (int i = 0; i < size; ++i) vd_[fan_[i].next].mark = base + static_cast<std::uint32_t>(i);
+  const std::uint32_t base = w.token + 1;
+  w.token += static_cast<std::uint32_t>(size) + 1;
+  const auto& fan = w.fan;
+  for (int i = 0; i < size; ++i) vd_[fan[i].next].mark = base + static_cast<std::uint32_t>(i);
   const double c2 = kFoldCos * kFoldCos;
   for (int i = 0; i < size; ++i) {
-    const std::uint32_t j = vd_[fan_[i].prev].mark - base;
-    if (j >= static_cast<std::uint32_t>(size) || fan_[j].next != fan_[i].prev) continue;
-    const double d = fan_[i].n.dot(fan_[j].n);
-    if (d < 0 && d * d > c2 * fan_[i].n.squaredNorm() * fan_[j].n.squaredNorm()) return true;
+    const std::uint32_t j = vd_[fan[i].prev].mark - base;
+    if (j >= static_cast<std::uint32_t>(size) || fan[j].next != fan[i].prev) continue;
+    const double d = fan[i].n.dot(fan[j].n);
+    if (d < 0 && d * d > c2 * fan[i].n.squaredNorm() * fan[j].n.squaredNorm()) return true;
   }
   return false;
 }
@@ -218,27 +229,30 @@ bool CollapseEngine::fan_folds(int size) {
 // Hausdorff losses to the best peer from 5 to 2 of 18 (on the 1M torus about one collapse
 // in a thousand is requeued); a lower bound (the nearest plane of the fan) instead of the true
 // distance, or checking only v, did worse.
-double CollapseEngine::tip_cost(std::uint32_t u, std::uint32_t v, const Placement& pl) const {
+double CollapseEngine::tip_cost(const Worker& w, std::uint32_t u, std::uint32_t v,
+                                const Placement& pl) const {
   const double weight = vd_[u].weight + vd_[v].weight;
-  if (fan_size_ == 0 || !(weight > 0)) return 0.0;
+  if (w.fan_size == 0 || !(weight > 0)) return 0.0;
   const double t2 = kTipRatio * pl.cost / weight;
-  double h2 = tip_height2(0, pl.p, vd_[u].p, t2);
+  double h2 = tip_height2(w, 0, pl.p, vd_[u].p, t2);
   if (pl.p != vd_[v].p)
-    h2 = std::max(h2, tip_height2(fan_v_ < fan_size_ ? fan_v_ : 0, pl.p, vd_[v].p, t2));
+    h2 = std::max(h2, tip_height2(w, w.fan_v < w.fan_size ? w.fan_v : 0, pl.p, vd_[v].p, t2));
   return kTipWeight * weight * h2;
 }
 
 // The squared distance from x to the new fan around p, or 0 when it is at most t2. Most
 // checks end at the first triangles tried: x's own former triangles (from `start`) usually
 // hold its projection.
-double CollapseEngine::tip_height2(int start, const Point& p, const Point& x, double t2) const {
+double CollapseEngine::tip_height2(const Worker& w, int start, const Point& p, const Point& x,
+                                   double t2) const {
   const Eigen::Vector3d d = x - p;
   if (d.squaredNorm() <= t2) return 0.0;
-  const int size = fan_size_;
+  const int size = w.fan_size;
+  const auto& fan = w.fan;
   for (int k = 0, i = start; k < size; ++k, i = i + 1 == size ? 0 : i + 1) {
-    const Eigen::Vector3d& n = fan_[i].n;
-    const Point& a = vd_[fan_[i].next].p;
-    const Point& b = vd_[fan_[i].prev].p;
+    const Eigen::Vector3d& n = fan[i].n;
+    const Point& a = vd_[fan[i].next].p;
+    const Point& b = vd_[fan[i].prev].p;
     // Twice the signed areas that x's projection makes with the three edges; they sum to n·n.
     const double s1 = normal(p, a, x).dot(n);
     if (s1 < 0) continue;
@@ -251,42 +265,36 @@ double CollapseEngine::tip_height2(int start, const Point& p, const Point& x, do
   }
   // Rarely: x projects onto no triangle near enough, or off the fan.
   for (int i = 0; i < size; ++i) {
-    const double h = fan_[i].n.dot(d);
-    if (h * h > t2 * fan_[i].n.squaredNorm()) continue;
-    const Point c = closest_point_on_triangle(x, p, vd_[fan_[i].next].p, vd_[fan_[i].prev].p);
+    const double h = fan[i].n.dot(d);
+    if (h * h > t2 * fan[i].n.squaredNorm()) continue;
+    const Point c = closest_point_on_triangle(x, p, vd_[fan[i].next].p, vd_[fan[i].prev].p);
     if ((c - x).squaredNorm() <= t2) return 0.0;
   }
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < size; ++i) {
-    const Point c = closest_point_on_triangle(x, p, vd_[fan_[i].next].p, vd_[fan_[i].prev].p);
+    const Point c = closest_point_on_triangle(x, p, vd_[fan[i].next].p, vd_[fan[i].prev].p);
     best = std::min(best, (c - x).squaredNorm());
   }
   return std::isfinite(best) ? best : 0.0;
 }
 
-void CollapseEngine::ensure_refs(std::size_t extra) {
-  if (refs_.size() + extra <= refs_.capacity()) return;
+void CollapseEngine::ensure_refs(Worker& w, std::size_t extra) {
+  if (w.ref_end + extra <= w.ref_limit) return;
   // Out of room: rewrite the lists of live vertices, without the space of removed ones and of
   // superseded lists, into a fresh array with slack, so that this (rare) reallocation is
   // amortised over many collapses.
   std::size_t live = 0;
   for (const VertexData& d : vd_) live += d.ref_size;
-  std::vector<std::uint32_t> fresh;
-  reserve_huge(fresh, std::max(refs_.capacity(), 2 * live + extra + 64));
-  for (std::size_t v = 0; v < vd_.size(); ++v) {
-    const std::uint32_t begin = vd_[v].ref_begin, size = vd_[v].ref_size;
-    vd_[v].ref_begin = static_cast<std::uint32_t>(fresh.size());
-    fresh.insert(fresh.end(), refs_.begin() + begin, refs_.begin() + begin + size);
-  }
-  refs_.swap(fresh);
+  compact_refs(std::max(refs_capacity_, 2 * live + workers_.size() * extra + 64));
 }
 
-int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl) {
+int CollapseEngine::try_collapse(Worker& wk, std::uint32_t u, std::uint32_t v,
+                                 const Placement& pl) {
   // 1 = ok, 0 = topologically or geometrically invalid, 2 = over max_error.
   std::uint32_t opposite[2] = {kNone, kNone};
   int n_shared = 0;
   // The walk over u's triangles also marks u's neighbours for the link condition below.
-  const std::uint32_t token_u = ++mark_token_;
+  const std::uint32_t token_u = ++wk.token;
   for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
     for (std::uint32_t w : triangles_[t]) vd_[w].mark = token_u;
@@ -296,7 +304,7 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
     opposite[n_shared++] = tri[0] != u && tri[0] != v ? tri[0] : tri[1] != u && tri[1] != v ? tri[1] : tri[2];
     // The collapse would drop the shared triangle from this list: fetch it while the
     // checks below run.
-    __builtin_prefetch(refs_.data() + vd_[opposite[n_shared - 1]].ref_begin);
+    __builtin_prefetch(refs_.get() + vd_[opposite[n_shared - 1]].ref_begin);
     __builtin_prefetch(&tri_alive_[t], 1);
   }
   if (n_shared == 0) return 0;
@@ -306,13 +314,13 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   if (!boundary_edge && vd_[u].boundary && vd_[v].boundary) return 0;
 
   // Link condition: the common neighbours of u and v are exactly the opposite corners.
-  ++mark_token_;
+  const std::uint32_t token_common = ++wk.token;
   int common = 0;
   for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
     for (std::uint32_t w : triangles_[t])
       if (w != u && w != v && vd_[w].mark == token_u) {
-        vd_[w].mark = mark_token_;
+        vd_[w].mark = token_common;
         ++common;
       }
   }
@@ -331,23 +339,24 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   const bool fold = merged <= kFanMax;
   int fan = 0;
   FanFace spare;
+  auto& new_fan = wk.fan;
   for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
     const std::uint32_t t = refs_[i];
     if (has_tri_with(t, v)) continue;
-    if (!face_ok(t, u, pl.p, fold ? fan_[fan++] : spare)) return 0;
+    if (!face_ok(t, u, pl.p, fold ? new_fan[fan++] : spare)) return 0;
   }
-  fan_v_ = fan;
+  wk.fan_v = fan;
   // A survivor that stays put leaves its own triangles as they were.
   const bool moves = pl.p != vd_[v].p;
   if (moves || fold)
     for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
       const std::uint32_t t = refs_[i];
       if (has_tri_with(t, u)) continue;
-      if (!moves) fan_face(t, v, pl.p, fan_[fan++]);
-      else if (!face_ok(t, v, pl.p, fold ? fan_[fan++] : spare)) return 0;
+      if (!moves) fan_face(t, v, pl.p, new_fan[fan++]);
+      else if (!face_ok(t, v, pl.p, fold ? new_fan[fan++] : spare)) return 0;
     }
-  if (fold && fan_folds(fan)) return 0;
-  fan_size_ = fold ? fan : 0;
+  if (fold && fan_folds(wk, fan)) return 0;
+  wk.fan_size = fold ? fan : 0;
 
   if (std::isfinite(options_.max_error)) {
     const double w = vd_[u].weight + vd_[v].weight;
@@ -357,9 +366,10 @@ int CollapseEngine::try_collapse(std::uint32_t u, std::uint32_t v, const Placeme
   return 1;
 }
 
-void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement& pl) {
+int CollapseEngine::collapse(Worker& wk, std::uint32_t u, std::uint32_t v, const Placement& pl) {
   if (attributes_) [[unlikely]] collapse_attributes(u, v);
-  ensure_refs(vd_[u].ref_size + vd_[v].ref_size);
+  ensure_refs(wk, vd_[u].ref_size + vd_[v].ref_size);
+  std::uint32_t* const refs = refs_.get();
   CollapseRecord rec;
   if (record_) {
     rec.u = u;
@@ -368,18 +378,18 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
     rec.pos_v_before = model_[v];
     rec.changed_begin = static_cast<std::uint32_t>(changed_.size());
   }
-  const auto new_begin = static_cast<std::uint32_t>(refs_.size());
+  const auto new_begin = static_cast<std::uint32_t>(wk.ref_end);
+  std::uint32_t* out = refs + new_begin;
   for (std::uint32_t i = vd_[v].ref_begin; i < vd_[v].ref_begin + vd_[v].ref_size; ++i) {
-    const std::uint32_t t = refs_[i];
-    if (!has_tri_with(t, u)) refs_.push_back(t);
+    const std::uint32_t t = refs[i];
+    if (!has_tri_with(t, u)) *out++ = t;
   }
   int n_dead = 0;
   for (std::uint32_t i = vd_[u].ref_begin; i < vd_[u].ref_begin + vd_[u].ref_size; ++i) {
-    const std::uint32_t t = refs_[i];
+    const std::uint32_t t = refs[i];
     auto& tri = triangles_[t];
     if (has_tri_with(t, v)) {
       tri_alive_[t] = 0;
-      --alive_triangles_;
       for (std::uint32_t w : tri)
         if (w != u && w != v) {
           drop_ref(w, t);
@@ -393,13 +403,14 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
         tri[k] = v;
         if (record_) changed_.push_back(3 * t + k);
       }
-    refs_.push_back(t);
+    *out++ = t;
   }
   const double w = vd_[u].weight + vd_[v].weight;
-  if (w > 0) max_error_ = std::max(max_error_, std::sqrt(pl.cost / w) * scale_);
+  if (w > 0) wk.max_error = std::max(wk.max_error, std::sqrt(pl.cost / w) * scale_);
 
+  wk.ref_end = static_cast<std::size_t>(out - refs);
   vd_[v].ref_begin = new_begin;
-  vd_[v].ref_size = static_cast<std::uint32_t>(refs_.size()) - new_begin;
+  vd_[v].ref_size = static_cast<std::uint32_t>(wk.ref_end - new_begin);
   vd_[u].ref_size = 0;
   if (!merged_into_.empty()) merged_into_[u] = v;
   // Both quadrics move to the survivor's new position, their new origin.
@@ -418,12 +429,14 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
   vd_[v].boundary |= vd_[u].boundary;
   ++stamp_[v];
   ++stamp_[u];
-  ++collapses_;
+  ++wk.collapses;
+  wk.removed += static_cast<std::size_t>(n_dead);
   if (record_) {
     rec.pos_v_after = model_[v];
     rec.changed_end = static_cast<std::uint32_t>(changed_.size());
     records_.push_back(rec);
   }
+  return n_dead;
 }
 
 // Each collapse lands somewhere random on the surface, and its data is a chain of dependent
@@ -431,29 +444,30 @@ void CollapseEngine::collapse(std::uint32_t u, std::uint32_t v, const Placement&
 // for the next few queued collapses in stages, one link per stage, so that by the time a
 // collapse comes up its neighbourhood is in cache, and the misses of several collapses
 // overlap instead of stalling one after another.
-void CollapseEngine::prefetch_upcoming() const {
+void CollapseEngine::prefetch_upcoming(const Worker& w) const {
+  const RadixQueue& queue = w.queue;
   auto ends = [](const Candidate* c) { return std::array<std::uint32_t, 2>{c->a, c->b}; };
-  if (const Candidate* c = queue_.peek(6))
+  if (const Candidate* c = queue.peek(6))
     for (std::uint32_t x : ends(c)) {
       __builtin_prefetch(&vd_[x].q);
       __builtin_prefetch(&vd_[x].p);
     }
-  if (const Candidate* c = queue_.peek(4))
+  if (const Candidate* c = queue.peek(4))
     for (std::uint32_t x : ends(c)) {
-      const std::uint32_t* list = refs_.data() + vd_[x].ref_begin;
+      const std::uint32_t* list = refs_.get() + vd_[x].ref_begin;
       __builtin_prefetch(list);
       if (vd_[x].ref_size > 1) __builtin_prefetch(list + vd_[x].ref_size - 1);
       // A progressive mesh's records read and write the model positions.
       if (record_) __builtin_prefetch(&model_[x], 1);
     }
-  if (const Candidate* c = queue_.peek(2))
+  if (const Candidate* c = queue.peek(2))
     for (std::uint32_t x : ends(c))
       for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i)
         __builtin_prefetch(&triangles_[refs_[i]]);
   // One corner per triangle, the one after x: around an interior vertex that is each
   // neighbour once, where all three corners fetched each neighbour twice and x itself every
   // time, and the surplus prefetches queued behind the misses.
-  if (const Candidate* c = queue_.peek(0))
+  if (const Candidate* c = queue.peek(0))
     for (std::uint32_t x : ends(c))
       for (std::uint32_t i = vd_[x].ref_begin; i < vd_[x].ref_begin + vd_[x].ref_size; ++i) {
         const auto& tri = triangles_[refs_[i]];
@@ -464,98 +478,94 @@ void CollapseEngine::prefetch_upcoming() const {
       }
 }
 
-SimplifyStop CollapseEngine::run(std::size_t target) {
-  const std::size_t start = alive_triangles_;
-  std::size_t next_report = 4096;
-  while (alive_triangles_ > target) {
-    Candidate c;
-    if (!queue_.pop(c)) return error_rejected_ ? SimplifyStop::kMaxError : SimplifyStop::kNoValidCollapse;
-    prefetch_upcoming();
+CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limits) {
+  std::size_t removed = 0, next_report = wk.collapses + 4096;
+  const std::size_t spare = limits.exact ? 1 : 0;
+  while (removed + spare < limits.faces) {
+    RadixQueue* queue = limits.all_queues ? cheapest_queue() : &wk.queue;
+    const Candidate* top = queue ? queue->top() : nullptr;
+    if (!top) return Drain::kEmpty;
+    if (RadixQueue::key(top->cost) > limits.key) return Drain::kLimit;
+    const Candidate c = *top;
+    queue->drop_top();
+    if (wk.in_step) {
+      // An end became seam since the entry was queued: it is the seam's now.
+      if (region_[c.a] != wk.part || region_[c.b] != wk.part) {
+        wk.staged.push_back(c);
+        continue;
+      }
+      // Only the serial code may move refs_.
+      if (wk.ref_end + vd_[c.a].ref_size + vd_[c.b].ref_size > wk.ref_limit) {
+        wk.queue.push(c);
+        return Drain::kRoom;
+      }
+    }
+    if (!limits.all_queues) prefetch_upcoming(wk);
     const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;
     if (pl.source == 1 || vd_[c.a].locked) std::swap(u, v);
-    const int verdict = try_collapse(u, v, pl);
+    const int verdict = try_collapse(wk, u, v, pl);
     if (verdict != 1) {
       // Remember both ends: when a neighbour changes, their edges get another chance.
       vd_[c.a].retry = vd_[c.b].retry = 1;
-      if (verdict == 2) error_rejected_ = true;
+      if (verdict == 2) wk.error_rejected = true;
       continue;
     }
     // Requeued at the higher cost, unless it already came out at it: with its neighbourhood
     // unchanged the same cost comes back, and the collapse goes ahead.
-    if (const double tip = tip_cost(u, v, pl); tip > pl.cost) {
+    if (const double tip = tip_cost(wk, u, v, pl); tip > pl.cost) {
       const float key = priority(c.a, c.b, tip);
       if (key > c.cost * (1.0f + 1e-6f)) {
-        queue_.push({key, c.a, c.b, c.stamps});
+        push(wk, {key, c.a, c.b, c.stamps});
         continue;
       }
     }
-    collapse(u, v, pl);
+    const int dead = collapse(wk, u, v, pl);
+    removed += static_cast<std::size_t>(dead);
+    if (!wk.in_step) {
+      alive_triangles_ -= static_cast<std::size_t>(dead);
+      if (parts_ > 0) extend_seam(v);
+    }
     // Re-evaluated now, while the neighbourhood is in cache, rather than when the old
     // entries reach the top.
     vd_[v].retry = 0;
-    push_vertex_edges(v);
+    push_vertex_edges(wk, v);
     // Neighbours with rejected edges: their surroundings changed, so queue their edges
     // again (duplicates of still-valid entries are harmless). push_vertex_edges left v's
-    // neighbours in neighbours_, in the order of a walk over v's triangles.
-    retry_.clear();
-    for (std::uint32_t w : neighbours_)
-      if (vd_[w].retry) retry_.push_back(w);
-    for (std::uint32_t w : retry_) {
+    // neighbours in neighbours, in the order of a walk over v's triangles.
+    wk.retry.clear();
+    for (std::uint32_t w : wk.neighbours)
+      if (vd_[w].retry) wk.retry.push_back(w);
+    for (std::uint32_t w : wk.retry) {
       vd_[w].retry = 0;
-      push_vertex_edges(w);
+      // A seam vertex's edges reach other parts: the seam queues them after the step.
+      if (wk.in_step && region_[w] != wk.part) wk.staged_retry.push_back(w);
+      else push_vertex_edges(wk, w);
     }
-    if (options_.progress && collapses_ >= next_report) {
-      next_report = collapses_ + 4096;
-      const double total = static_cast<double>(start - std::min(start, target));
-      if (!options_.progress(total > 0 ? static_cast<double>(start - alive_triangles_) / total : 1.0))
-        return SimplifyStop::kCancelled;
+    if (!wk.in_step && options_.progress && wk.collapses >= next_report) {
+      next_report = wk.collapses + 4096;
+      if (!options_.progress(progress())) return Drain::kCancelled;
     }
   }
-  return SimplifyStop::kTargetReached;
+  return Drain::kDone;
 }
 
-std::vector<Point> CollapseEngine::normalised_positions() const {
-  std::vector<Point> p(vd_.size());
-  for (std::size_t v = 0; v < vd_.size(); ++v) p[v] = vd_[v].p;
-  return p;
+double CollapseEngine::progress() const {
+  const double total = static_cast<double>(run_start_ - run_target_);
+  return total > 0 ? static_cast<double>(run_start_ - alive_triangles_) / total : 1.0;
 }
 
-SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
-                                    std::vector<Vertex>* out_survivor) const {
-  std::vector<std::uint32_t> index(vd_.size(), kNone);
-  std::vector<Point> positions;
-  positions.reserve(vd_.size());
-  if (out_origin) out_origin->clear();
-  for (std::size_t v = 0; v < vd_.size(); ++v) {
-    if (vd_[v].ref_size == 0) continue;
-    index[v] = static_cast<std::uint32_t>(positions.size());
-    positions.push_back(model(v));
-    if (out_origin) out_origin->push_back(vertex_of_[v]);
-  }
-  std::vector<std::array<std::uint32_t, 3>> kept;
-  kept.reserve(alive_triangles_);
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    if (!tri_alive_[t]) continue;
-    const auto& tri = triangles_[t];
-    kept.push_back({index[tri[0]], index[tri[1]], index[tri[2]]});
-  }
-  if (out_survivor && !merged_into_.empty()) {
-    // Follow each chain of collapses to its live end, shortening it on the way (halving).
-    std::vector<std::uint32_t> root = merged_into_;
-    for (std::size_t v = 0; v < root.size(); ++v) {
-      std::uint32_t r = static_cast<std::uint32_t>(v);
-      while (root[r] != kNone) {
-        if (root[root[r]] != kNone) root[r] = root[root[r]];
-        r = root[r];
-      }
-      if (index[r] != kNone) (*out_survivor)[vertex_of_[v].idx()] = Vertex(index[r]);
-    }
-  }
-  SurfaceMesh out = mesh_from_triangles(positions, kept);
-  if (attributes_) write_attributes(out);
-  return out;
+std::size_t CollapseEngine::n_collapses() const {
+  std::size_t n = 0;
+  for (const Worker& w : workers_) n += w.collapses;
+  return n;
+}
+
+double CollapseEngine::max_error() const {
+  double e = 0;
+  for (const Worker& w : workers_) e = std::max(e, w.max_error);
+  return e;
 }
 
 }  // namespace geom::detail

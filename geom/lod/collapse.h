@@ -3,7 +3,8 @@
 /// The edge-collapse engine behind simplify() and ProgressiveMesh: flat triangle arrays,
 /// per-vertex incident-triangle lists, Garland–Heckbert quadrics and a monotone priority
 /// queue. Internal to geom/lod. The constructor (collapse_setup.cpp) builds them on all
-/// cores, with the same result on any number; the collapses run on one.
+/// cores, with the same result on any number. On a large mesh the collapses run on all cores
+/// too, region by region (collapse_loop.cpp), again with the same result on any number.
 ///
 /// Queue entries carry the sum of their endpoints' stamps (stamps only grow, so an equal
 /// sum means neither changed). A collapse queues every edge of the survivor at its new
@@ -34,6 +35,7 @@
 #include <geom/lod/simplify.h>
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -56,15 +58,21 @@ struct CollapseRecord {
 class CollapseEngine {
  public:
   /// Pre: mesh is a valid SurfaceMesh. Throws: InvalidArgument on bad options.
-  CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options, bool record);
+  /// Meshes of at least parallel_min_triangles run their collapses region by region on all
+  /// cores (never when recording or with attributes).
+  CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options, bool record,
+                 std::size_t parallel_min_triangles = kParallelMinTriangles);
+  static constexpr std::size_t kParallelMinTriangles = 100000;
 
   /// Collapse until at most target triangles remain or nothing valid is left.
   SimplifyStop run(std::size_t target_triangles);
 
   std::size_t n_triangles_initial() const { return triangles_.size(); }
   std::size_t n_triangles() const { return alive_triangles_; }
-  std::size_t n_collapses() const { return collapses_; }
-  double max_error() const { return max_error_; }
+  std::size_t n_collapses() const;
+  double max_error() const;
+  /// Regions collapsed in parallel (0: the collapses run on one core).
+  std::size_t n_parts() const { return parts_; }
 
   /// Dense vertex i is mesh vertex vertex_of()[i] (isolated vertices are left out).
   const std::vector<Vertex>& vertex_of() const { return vertex_of_; }
@@ -130,7 +138,24 @@ class CollapseEngine {
     /// one slab sized for them all.
     void assign(const std::vector<EdgeBlock>& blocks);
     /// Remove a current entry of the smallest cost into out; false when none is left.
-    bool pop(Candidate& out);
+    bool pop(Candidate& out) {
+      const Candidate* c = top();
+      if (!c) return false;
+      out = *c;
+      drop_top();
+      return true;
+    }
+    /// A current entry of the smallest cost, left in the queue; null when none is left.
+    const Candidate* top();
+    void drop_top() {
+      head_ = (head_ + 1) % kRing;
+      --n_ahead_;
+    }
+    /// The queue's order: non-negative floats order like their bit patterns; NaN goes last.
+    [[gnu::always_inline]] static std::uint32_t key(float cost) {
+      if (!(cost >= 0.0f)) return cost != cost ? 0x7f800000u : 0u;
+      return std::bit_cast<std::uint32_t>(cost);
+    }
     /// The entry that comes out k pops from now if nothing cheaper is pushed meanwhile
     /// (k < kAhead), or null: the engine fetches the memory of upcoming collapses early.
     const Candidate* peek(std::size_t k) const {
@@ -146,7 +171,6 @@ class CollapseEngine {
     void top_up();
     /// Make bucket 0 hold the current entries of the smallest cost, unless none is left.
     void settle();
-    [[gnu::always_inline]] static std::uint32_t key(float cost);
     [[gnu::always_inline]] int bucket(std::uint32_t k) const;
     // A bucket holds its entries in order in fixed-size chunks, all full but the last, taken
     // from a pool that all buckets share; a bucket drained into the lower ones hands each
@@ -202,6 +226,48 @@ class CollapseEngine {
     int source;     // 0 optimum, 1 = a, 2 = b, 3 = midpoint
   };
 
+  // A triangle of the fan around the merged vertex: its other corners in order, its normal.
+  struct FanFace {
+    std::uint32_t next, prev;
+    Eigen::Vector3d n;
+  };
+  static constexpr int kFanMax = 64;
+  /// What one collapse loop owns: its queue, scratch, mark tokens, room in refs_ and
+  /// counters. One on the serial path; with parts, one per part plus one for the seam
+  /// (collapse_loop.cpp), each touched by one thread at a time.
+  struct alignas(64) Worker {
+    RadixQueue queue;
+    std::vector<std::uint32_t> neighbours;  // push_vertex_edges' result
+    std::vector<Candidate> pending;         // push_vertex_edges' scratch
+    std::vector<std::uint32_t> retry;       // drain()'s scratch
+    // In a parallel step, what belongs to the seam: entries, and vertices whose edges are
+    // to be queued again.
+    std::vector<Candidate> staged;
+    std::vector<std::uint32_t> staged_retry;
+    std::array<FanFace, kFanMax> fan;  // try_collapse's scratch: the new fan
+    // Its size (0: not recorded) and where v's triangles start in it.
+    int fan_size = 0, fan_v = 0;
+    // Marks are compared with the current token for equality only; each worker draws its
+    // tokens from a range of its own (hundreds of millions with kParts workers, at about 20
+    // a collapse), so another worker's marks never look current.
+    std::uint32_t token = 0;
+    // Its room for merged triangle lists: refs_[ref_end .. ref_limit).
+    std::size_t ref_end = 0, ref_limit = 0;
+    std::size_t collapses = 0, removed = 0;  // triangles removed
+    double max_error = 0;
+    bool error_rejected = false;
+    bool in_step = false;  // collapsing its part concurrently with the other parts
+    std::uint8_t part = 0;
+  };
+  /// How a drain() ended.
+  enum class Drain { kDone, kLimit, kEmpty, kRoom, kCancelled };
+  struct DrainLimits {
+    std::uint32_t key;  // collapse entries up to this queue key
+    std::size_t faces;  // remove at most about this many triangles
+    bool exact;         // never more than faces (else the last collapse may pass it by one)
+    bool all_queues;    // take the cheapest entry of all workers' queues
+  };
+
   Placement place(std::uint32_t a, std::uint32_t b) const;
   /// place(a[k], b[k]).cost for k = 0, 1, bit for bit, in two SIMD lanes
   /// (collapse_costs.cpp).
@@ -213,28 +279,30 @@ class CollapseEngine {
   /// Set the cost (the queue's priority) of c[0 .. n), two edges at a time.
   void set_costs(Candidate* c, std::size_t n) const;
   [[gnu::always_inline]] float priority(std::uint32_t a, std::uint32_t b, double cost) const;
-  void push_vertex_edges(std::uint32_t v);
-  void prefetch_upcoming() const;
+  void push_vertex_edges(Worker& w, std::uint32_t v);
+  /// Queue c where it belongs: w's queue on the serial path, else its part's or the seam's.
+  void push(Worker& w, const Candidate& c);
+  void prefetch_upcoming(const Worker& w) const;
   // Forced inline: the collapse checks call it for every triangle around both ends.
   [[gnu::always_inline]] bool has_tri_with(std::uint32_t t, std::uint32_t x) const {
     const auto& tri = triangles_[t];
     return tri[0] == x || tri[1] == x || tri[2] == x;
   }
   void drop_ref(std::uint32_t w, std::uint32_t t);
-  int try_collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
-  double tip_cost(std::uint32_t u, std::uint32_t v, const Placement& pl) const;
-  double tip_height2(int start, const Point& p, const Point& x, double t2) const;
-  void collapse(std::uint32_t u, std::uint32_t v, const Placement& pl);
-  void ensure_refs(std::size_t extra);
-  // A triangle of the fan around the merged vertex: its other corners in order, its normal.
-  struct FanFace {
-    std::uint32_t next, prev;
-    Eigen::Vector3d n;
-  };
+  int try_collapse(Worker& w, std::uint32_t u, std::uint32_t v, const Placement& pl);
+  double tip_cost(const Worker& w, std::uint32_t u, std::uint32_t v, const Placement& pl) const;
+  double tip_height2(const Worker& w, int start, const Point& p, const Point& x, double t2) const;
+  /// Returns the number of triangles removed.
+  int collapse(Worker& w, std::uint32_t u, std::uint32_t v, const Placement& pl);
+  void ensure_refs(Worker& w, std::size_t extra);
+  /// Rewrite the live triangle lists to the front of a fresh refs_ of at least `capacity`
+  /// and share the rest out among the workers.
+  void compact_refs(std::size_t capacity);
+  /// Collapse from w's queue (or all queues) within the limits.
+  Drain drain(Worker& w, const DrainLimits& limits);
   bool face_ok(std::uint32_t t, std::uint32_t moved, const Point& p, FanFace& out) const;
   void fan_face(std::uint32_t t, std::uint32_t moved, const Point& p, FanFace& out) const;
-  bool fan_folds(int size);
-  static constexpr int kFanMax = 64;
+  bool fan_folds(Worker& w, int size);
   // cos 127°: CGAL rejects only near-complete folds (179°); this also stops sharp creases.
   static constexpr double kFoldCos = -0.6;
   // place()'s tie band, relative to the size of the merged quadric's terms about the edge:
@@ -247,6 +315,25 @@ class CollapseEngine {
   // above the new fan is requeued at cost kTipWeight · weight · height² (see tip_cost()).
   static constexpr double kTipRatio = 6.0, kTipWeight = 0.5;
   std::vector<Point> normalised_positions() const;
+
+  // Region-parallel collapses (collapse_loop.cpp).
+  static constexpr std::size_t kParts = 8;
+  static constexpr std::uint8_t kSeam = 0xff;
+  /// Label the vertices with kParts regions of the positions pos and mark the seam.
+  void partition(const std::vector<Point>& pos);
+  /// Set up the workers and hand them the first entries (blocks of edges, in order).
+  void start_workers(std::vector<EdgeBlock>& blocks, std::uint32_t first_token,
+                     std::size_t refs_end);
+  /// Share refs_[end .. refs_capacity_) out among the workers.
+  void share_refs(std::size_t end);
+  SimplifyStop run_parallel(std::size_t target);
+  /// After a collapse outside the parallel steps, survivor v and any neighbour of another
+  /// part become seam, so that no part reaches another's vertices.
+  void extend_seam(std::uint32_t v);
+  RadixQueue* cheapest_queue();
+  /// The fraction of run()'s work done, for options.progress.
+  double progress() const;
+  std::size_t run_start_ = 0, run_target_ = 0;  // triangles when run() began, its target
 
   // Attribute hooks (collapse_attributes.cpp), called only when attributes_ is set.
   void init_attributes(const SurfaceMesh& mesh);
@@ -273,23 +360,20 @@ class CollapseEngine {
   // quadric holds (priority()); empty for a closed mesh. Apart from vd_, which is full: only
   // boundary vertices read it.
   std::vector<double> boundary_length2_;
-  std::uint32_t mark_token_ = 0;
 
   std::vector<std::array<std::uint32_t, 3>> triangles_;
   std::vector<std::uint8_t> tri_alive_;
   std::size_t alive_triangles_ = 0;
 
-  // Incident triangle lists (VertexData::ref_begin); a collapse appends v's merged list at
-  // the end.
-  std::vector<std::uint32_t> refs_;
+  // Incident triangle lists (VertexData::ref_begin) in refs_[0 .. refs_capacity_); a collapse
+  // writes v's merged list into its worker's room. Not cleared: only written parts are read.
+  std::unique_ptr<std::uint32_t[]> refs_;
+  std::size_t refs_capacity_ = 0;
 
-  RadixQueue queue_;
-  std::vector<std::uint32_t> neighbours_;
-  std::vector<Candidate> pending_;  // push_vertex_edges' scratch
-  std::vector<std::uint32_t> retry_;  // run()'s scratch
-  std::size_t collapses_ = 0;
-  double max_error_ = 0;
-  bool error_rejected_ = false;
+  std::vector<Worker> workers_;
+  std::size_t parts_ = 0;  // 0: one worker, serial
+  // Per vertex: its part (fixed), and its part or kSeam (seam only grows).
+  std::vector<std::uint8_t> label_, region_;
 
   // Per dense vertex, the vertex it was collapsed into (kNone while alive); kept only for the
   // refit, which projects the input through it instead of searching the whole output.
@@ -299,9 +383,10 @@ class CollapseEngine {
   std::vector<std::uint32_t> changed_;
 
   std::unique_ptr<AttributeQuadrics> attributes_;  // null unless options.attributes.any()
-  std::array<FanFace, kFanMax> fan_;  // try_collapse's scratch: the new fan
-  // Its size (0: not recorded) and where v's triangles start in it.
-  int fan_size_ = 0, fan_v_ = 0;
 };
+
+/// simplify() with the size from which collapses run in parallel (tests set it low).
+SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options,
+                        std::size_t parallel_min_triangles);
 
 }  // namespace geom::detail

@@ -12,12 +12,6 @@
 
 namespace geom::detail {
 
-inline std::uint32_t CollapseEngine::RadixQueue::key(float cost) {
-  // Non-negative floats order like their bit patterns; NaN goes last.
-  if (!(cost >= 0.0f)) return std::isnan(cost) ? 0x7f800000u : 0u;
-  return std::bit_cast<std::uint32_t>(cost);
-}
-
 inline int CollapseEngine::RadixQueue::bucket(std::uint32_t k) const {
   return k == last_ ? 0 : 32 - std::countl_zero(k ^ last_);
 }
@@ -149,14 +143,12 @@ void CollapseEngine::RadixQueue::top_up() {
   }
 }
 
-bool CollapseEngine::RadixQueue::pop(Candidate& out) {
+const CollapseEngine::Candidate* CollapseEngine::RadixQueue::top() {
   for (;;) {
     top_up();
-    if (n_ahead_ == 0) return false;
-    out = ahead(0);
-    head_ = (head_ + 1) % kRing;
-    --n_ahead_;
-    if (current(out)) return true;
+    if (n_ahead_ == 0) return nullptr;
+    if (current(ahead(0))) return &ahead(0);
+    drop_top();
   }
 }
 

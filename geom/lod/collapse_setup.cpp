@@ -1,10 +1,11 @@
-// The engine's setup: the flat triangle arrays, per-vertex triangle lists, quadrics and
-// the queue's first entries, built from a SurfaceMesh. Its sweeps run in parallel blocks
-// whose results do not depend on the split: the engine starts from the same state, bit for
-// bit, on any number of cores.
+// The engine's setup: the flat triangle arrays, per-vertex triangle lists, quadrics and the
+// queue's first entries, built from a SurfaceMesh. Its sweeps run in parallel blocks whose
+// results do not depend on the split: the engine starts from the same state, bit for bit,
+// on any number of cores. And its read-out, extract().
 
 #include <geom/lod/collapse.h>
 
+#include <geom/core/from_triangles.h>
 #include <geom/core/huge_pages.h>
 
 #include <Eigen/Geometry>
@@ -104,7 +105,7 @@ void fan_triangulate(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& 
 }  // namespace
 
 CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options,
-                               bool record)
+                               bool record, std::size_t parallel_min_triangles)
     : options_(options), record_(record) {
   if (!(options.ratio >= 0.0 && options.ratio <= 1.0))
     throw InvalidArgument("simplify: ratio must be in [0, 1], got " + std::to_string(options.ratio));
@@ -189,7 +190,6 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
 
   if (options.refit_iterations > 0) merged_into_.assign(n, kNone);
   stamp_.assign(n, 0);
-  queue_.watch(stamp_.data());
   for (Vertex v : options.locked)
     if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;
 
@@ -202,10 +202,10 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     vd_[v].ref_size = count[v];
     offset += std::exchange(count[v], offset);
   }
-  refs_.reserve(3 * static_cast<std::size_t>(offset) + 64);
-  advise_huge_pages(refs_.data(), refs_.capacity() * sizeof(std::uint32_t));
-  prefault_parallel(refs_.data(), std::size_t{offset} * sizeof(std::uint32_t));
-  refs_.resize(offset);
+  refs_capacity_ = 3 * static_cast<std::size_t>(offset) + 64;
+  refs_.reset(new std::uint32_t[refs_capacity_]);
+  advise_huge_pages(refs_.get(), refs_capacity_ * sizeof(std::uint32_t));
+  prefault_parallel(refs_.get(), std::size_t{offset} * sizeof(std::uint32_t));
   // count[v] is now v's fill cursor: a dense array, where vd_ has a record of two lines.
   for (std::uint32_t t = 0; t < triangles_.size(); ++t)
     for (std::uint32_t v : triangles_[t]) refs_[count[v]++] = t;
@@ -285,6 +285,11 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   if (options.lock_boundary)
     for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
   if (options.attributes.any() && !record_) init_attributes(mesh);
+  // A progressive mesh records one global order, and attribute collapses share wedge data
+  // across parts: those stay serial, as do meshes too small to repay the barriers.
+  if (!record_ && !attributes_ && triangles_.size() >= parallel_min_triangles &&
+      n >= 64 * kParts)
+    partition(pos);
 
   // The queue starts with every edge once, from its lower end a, in the order of a walk over
   // a's triangles, vertex by vertex. Blocks of vertices list and cost their edges in
@@ -305,8 +310,49 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     }
   });
   // The walks above used no marks; the tokens go on from where a marking walk would leave them.
-  mark_token_ = static_cast<std::uint32_t>(n);
-  queue_.assign(blocks);
+  start_workers(blocks, static_cast<std::uint32_t>(n), offset);
+}
+
+std::vector<Point> CollapseEngine::normalised_positions() const {
+  std::vector<Point> p(vd_.size());
+  for (std::size_t v = 0; v < vd_.size(); ++v) p[v] = vd_[v].p;
+  return p;
+}
+
+SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
+                                    std::vector<Vertex>* out_survivor) const {
+  std::vector<std::uint32_t> index(vd_.size(), kNone);
+  std::vector<Point> positions;
+  positions.reserve(vd_.size());
+  if (out_origin) out_origin->clear();
+  for (std::size_t v = 0; v < vd_.size(); ++v) {
+    if (vd_[v].ref_size == 0) continue;
+    index[v] = static_cast<std::uint32_t>(positions.size());
+    positions.push_back(model(v));
+    if (out_origin) out_origin->push_back(vertex_of_[v]);
+  }
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  kept.reserve(alive_triangles_);
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    if (!tri_alive_[t]) continue;
+    const auto& tri = triangles_[t];
+    kept.push_back({index[tri[0]], index[tri[1]], index[tri[2]]});
+  }
+  if (out_survivor && !merged_into_.empty()) {
+    // Follow each chain of collapses to its live end, shortening it on the way (halving).
+    std::vector<std::uint32_t> root = merged_into_;
+    for (std::size_t v = 0; v < root.size(); ++v) {
+      std::uint32_t r = static_cast<std::uint32_t>(v);
+      while (root[r] != kNone) {
+        if (root[root[r]] != kNone) root[r] = root[root[r]];
+        r = root[r];
+      }
+      if (index[r] != kNone) (*out_survivor)[vertex_of_[v].idx()] = Vertex(index[r]);
+    }
+  }
+  SurfaceMesh out = mesh_from_triangles(positions, kept);
+  if (attributes_) write_attributes(out);
+  return out;
 }
 
 std::uint32_t CollapseEngine::higher_edges(std::uint32_t a, Candidate* out) const {

@@ -19,7 +19,12 @@ const char* to_string(SimplifyStop stop) {
 }
 
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options) {
-  detail::CollapseEngine engine(mesh, options, false);
+  return detail::simplify(mesh, options, detail::CollapseEngine::kParallelMinTriangles);
+}
+
+SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& options,
+                                std::size_t parallel_min_triangles) {
+  detail::CollapseEngine engine(mesh, options, false, parallel_min_triangles);
   SimplifyResult result;
   result.faces_before = engine.n_triangles_initial();
   const std::size_t target =
