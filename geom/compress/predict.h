@@ -35,6 +35,15 @@ enum class Predictor : std::uint8_t {
   /// subset, chosen by the encoder for the cheapest residuals): on a noisy scan one of two
   /// parallelograms is often much closer than their mean, and the choice costs about a bit.
   kMultiParallelogramSelect = 5,
+  /// kMultiParallelogramBlend in *growth order* instead of the degree order: vertices keep
+  /// the connectivity's numbering and are coded while the decoded triangles are walked in
+  /// decode order, each once two parallelograms predict it or its deadline (a stream's
+  /// power of two of triangles after its birth) has passed (FORMAT.md). Nothing is
+  /// renumbered and the walk follows the connectivity decoder's order, so it can be fused
+  /// into it; as a pass of its own it costs what the degree pass costs.
+  kGrowthBlend = 6,
+  /// kMultiParallelogramSelect in growth order.
+  kGrowthSelect = 7,
 };
 
 /// How many parallelograms (the first, in corner order) kMultiParallelogramSelect chooses
@@ -151,5 +160,40 @@ std::vector<std::uint32_t> encode_positions_degree_again(CornerTable& table, con
                                                          unsigned bits, RansEncoder& rans,
                                                          BitWriter& raw, Predictor predictor,
                                                          Blend blend);
+
+/// The deadlines (log2 of triangles) compress() chooses among for predictors 6 and 7
+/// (meshes under 2^15 vertices also try 2^10, 2^8 and 2^6); a decoder accepts any of
+/// 0 … kMaxLog2Deadline.
+inline constexpr unsigned kLog2Deadlines[2] = {12, 14};
+inline constexpr unsigned kMaxLog2Deadline = 31;
+
+/// Decode n positions of a kGrowthBlend or kGrowthSelect stream (FORMAT.md) into q, in the
+/// table's numbering (isolated vertices last; with kGrowthSelect and anchor_isolated, from
+/// their anchors). The pass's per-corner and per-vertex arrays live in `scratch` (a block of
+/// its own when null), dead on return.
+/// Throws: DecodeError on truncated data, a value off the grid or an anchor beyond the
+/// connected vertices. Complexity: O(V + T), each corner list walked once; memory
+/// 8 bytes per corner and 32 per vertex (each vertex enters the worklist at most twice).
+/// A pass of its own, it decodes about as fast as the degree order (predict_growth.cpp).
+void decode_positions_growth(const CornerTable& table, std::size_t n, unsigned bits,
+                             RansDecoder& rans, BitReader& raw, std::vector<QPoint>& q,
+                             Predictor predictor, Blend blend, bool anchor_isolated,
+                             unsigned log2_deadline, Scratch* scratch = nullptr);
+
+/// The scratch bytes decode_positions_growth uses.
+std::size_t growth_scratch_bytes(std::size_t n_corners, std::size_t n_vertices);
+
+/// The encoder's side of decode_positions_growth (q in the table's numbering, isolated
+/// vertices last). With kGrowthSelect and anchor_isolated (and a connected vertex), the
+/// isolated vertices are coded from their nearest connected vertex in anchor order and the
+/// result lists the coded vertex of each stream position (q.size() entries, the identity
+/// over the connected ones); otherwise it is empty (the identity). compress() chooses the
+/// weights and deadline by the streams' sizes. Complexity: O(V + T).
+std::vector<std::uint32_t> encode_positions_growth(const CornerTable& table,
+                                                   std::span<const QPoint> q, unsigned bits,
+                                                   RansEncoder& rans, BitWriter& raw,
+                                                   Predictor predictor, Blend blend = {},
+                                                   bool anchor_isolated = false,
+                                                   unsigned log2_deadline = kLog2Deadlines[1]);
 
 }  // namespace geom::codec::detail

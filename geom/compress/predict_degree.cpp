@@ -75,15 +75,6 @@ struct BlendProbe {
   }
 };
 
-inline unsigned code(ResidualReader& r, std::uint32_t, const QPoint& p, unsigned count,
-                     unsigned activity, std::uint32_t* out) {
-  return r.read(p, count, activity, out);
-}
-inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsigned count,
-                     unsigned activity, std::uint32_t* out) {
-  return w.code(v, p, count, activity, out);
-}
-
 /// The degree-order traversal with prediction and residual coding fused (see
 /// decode_positions_degree); Coder is ResidualReader or ResidualWriter. q (table numbering
 /// on entry for the writer) receives the grid points in the new order.
@@ -199,44 +190,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     QPoint p{0, 0, 0};
     std::uint32_t neighbour = kNone;
     if (select && count >= 2) {
-      const unsigned m = std::min(count, kMaxSelect);
-      // Candidates ranked by |2c − a − b|², how far their opposite vertex c lies from the
-      // middle of their edge ab (stable; |2c − a − b| < 2^31 on a 30-bit grid, so the sum
-      // fits): on a quad grid the parallelogram across a quad's diagonal (c nearer the
-      // middle) predicts the quad's fourth corner, the one across a grid edge a diagonal
-      // neighbour instead, so the masks' probabilities concentrate on the low bits.
-      std::uint64_t spread[kMaxSelect];
-      for (unsigned j = 0; j < m; ++j) {
-        spread[j] = 0;
-        for (int x = 0; x < 3; ++x) {
-          const std::int64_t d = cand_ends[j][x] - 2 * cand[j][x];
-          spread[j] += static_cast<std::uint64_t>(d * d);
-        }
-      }
-      for (unsigned j = 1; j < m; ++j)
-        for (unsigned i = j; i > 0 && spread[i] < spread[i - 1]; --i) {
-          std::swap(spread[i], spread[i - 1]);
-          for (int x = 0; x < 3; ++x) {
-            std::swap(cand[i][x], cand[i - 1][x]);
-            std::swap(cand_ends[i][x], cand_ends[i - 1][x]);
-          }
-        }
-      auto predict_subset = [&](unsigned mask) {
-        std::int64_t s[3] = {0, 0, 0}, e[3] = {0, 0, 0};
-        unsigned used = 0;
-        for (unsigned j = 0; j < m; ++j) {
-          if (!((mask >> j) & 1u)) continue;
-          for (int x = 0; x < 3; ++x) s[x] += cand[j][x], e[x] += cand_ends[j][x];
-          ++used;
-        }
-        const unsigned k = used == 1 ? blend.one : blend.many;
-        QPoint r;
-        for (int x = 0; x < 3; ++x)
-          r[x] = k == 0 ? rounded_mean(s[x], used, reader.top())
-                        : blended_mean(s[x], e[x], used, k, reader.top());
-        return r;
-      };
-      p = predict_subset(reader.choose(v, m, count, activity, predict_subset));
+      p = predict_select(reader, v, cand, cand_ends, count, activity, blend);
     } else if (count > 0) {
       const unsigned k = count == 1 ? blend.one : blend.many;
       if (k == 0) {

@@ -210,4 +210,62 @@ inline T floor_div(T a, T b) {
   return (a % b != 0 && a < 0) ? d - 1 : d;
 }
 
+/// The coders' common step, so that one pass template serves the decoder and the encoder.
+inline unsigned code(ResidualReader& r, std::uint32_t, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return r.read(p, count, activity, out);
+}
+inline unsigned code(ResidualWriter& w, std::uint32_t v, const QPoint& p, unsigned count,
+                     unsigned activity, std::uint32_t* out) {
+  return w.code(v, p, count, activity, out);
+}
+
+/// kMultiParallelogramSelect's prediction of vertex v with count ≥ 2 parallelograms, whose
+/// first min(count, kMaxSelect) are cand (a + b − c) and cand_ends (a + b), in the order met:
+/// ranks them, lets the coder choose (and code) the subset, and returns its prediction.
+/// Shared by the degree-order and growth-order passes; the arrays are reordered.
+template <class Coder>
+QPoint predict_select(Coder& reader, std::uint32_t v, std::int64_t (&cand)[kMaxSelect][3],
+                      std::int64_t (&cand_ends)[kMaxSelect][3], unsigned count, unsigned activity,
+                      Blend blend) {
+  const unsigned m = std::min(count, kMaxSelect);
+  // Candidates ranked by |2c − a − b|², how far their opposite vertex c lies from the
+  // middle of their edge ab (stable; |2c − a − b| < 2^31 on a 30-bit grid, so the sum
+  // fits): on a quad grid the parallelogram across a quad's diagonal (c nearer the
+  // middle) predicts the quad's fourth corner, the one across a grid edge a diagonal
+  // neighbour instead, so the masks' probabilities concentrate on the low bits.
+  std::uint64_t spread[kMaxSelect];
+  for (unsigned j = 0; j < m; ++j) {
+    spread[j] = 0;
+    for (int x = 0; x < 3; ++x) {
+      const std::int64_t d = cand_ends[j][x] - 2 * cand[j][x];
+      spread[j] += static_cast<std::uint64_t>(d * d);
+    }
+  }
+  for (unsigned j = 1; j < m; ++j)
+    for (unsigned i = j; i > 0 && spread[i] < spread[i - 1]; --i) {
+      std::swap(spread[i], spread[i - 1]);
+      for (int x = 0; x < 3; ++x) {
+        std::swap(cand[i][x], cand[i - 1][x]);
+        std::swap(cand_ends[i][x], cand_ends[i - 1][x]);
+      }
+    }
+  auto predict_subset = [&](unsigned mask) {
+    std::int64_t s[3] = {0, 0, 0}, e[3] = {0, 0, 0};
+    unsigned used = 0;
+    for (unsigned j = 0; j < m; ++j) {
+      if (!((mask >> j) & 1u)) continue;
+      for (int x = 0; x < 3; ++x) s[x] += cand[j][x], e[x] += cand_ends[j][x];
+      ++used;
+    }
+    const unsigned k = used == 1 ? blend.one : blend.many;
+    QPoint r;
+    for (int x = 0; x < 3; ++x)
+      r[x] = k == 0 ? rounded_mean(s[x], used, reader.top())
+                    : blended_mean(s[x], e[x], used, k, reader.top());
+    return r;
+  };
+  return predict_subset(reader.choose(v, m, count, activity, predict_subset));
+}
+
 }  // namespace geom::codec::detail

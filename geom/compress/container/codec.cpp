@@ -26,7 +26,8 @@ struct Header {
   std::uint8_t flags = 0;
   Predictor predictor = Predictor::kDelta;
   Blend blend;  // with kMultiParallelogramBlend
-  bool anchored = false;  // predictor 5's isolated vertex byte
+  bool anchored = false;  // predictor 5's and 7's isolated vertex byte
+  unsigned log2_deadline = 0;  // predictors 6 and 7
   Quantiser quantiser;
   unsigned normal_bits = 0;
   Quantiser uv_quantiser;
@@ -85,7 +86,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.flags & ~(version == kVersion ? kKnownFlags & 7 : kKnownFlags))
     throw DecodeError(r.offset() - 1, "unknown flags for version " + std::to_string(version));
   const std::uint8_t pred = r.u8();
-  if (pred > 5) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
+  if (pred > 7) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
   h.predictor = static_cast<Predictor>(pred);
   h.quantiser.bits = r.u8();
   if (h.quantiser.bits < 1 || h.quantiser.bits > 30)
@@ -100,11 +101,18 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
     throw DecodeError(r.offset() - 8, "grid extends beyond the double range");
   read_attribute_header(r, h);
   if (blended(h.predictor)) h.blend = Blend::from_byte(r.u8());
-  if (h.predictor == Predictor::kMultiParallelogramSelect) {
+  if (selecting(h.predictor)) {
     const std::uint8_t isolated = r.u8();
     if (isolated > 1)
       throw DecodeError(r.offset() - 1, "unknown isolated vertex mode " + std::to_string(isolated));
     h.anchored = isolated == 1;
+  }
+  if (growth(h.predictor)) {
+    h.log2_deadline = r.u8();
+    if (h.log2_deadline > kMaxLog2Deadline)
+      throw DecodeError(r.offset() - 1, "growth-order deadline 2^" +
+                                            std::to_string(h.log2_deadline) + " beyond 2^" +
+                                            std::to_string(kMaxLog2Deadline));
   }
   const std::size_t counts_at = r.offset();
   h.n_faces = r.varint();
@@ -143,14 +151,15 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   const std::uint64_t conn_base = static_cast<std::uint64_t>(conn_rans.data() - bytes.data());
   const std::uint64_t conn_raw_base = static_cast<std::uint64_t>(conn_raw.data() - bytes.data());
   core.connectivity_offset = conn_at;
-  // One block for the stages' scratch, sized for the larger at once: the degree pass then
+  // One block for the stages' scratch, sized for the largest at once: the position pass then
   // reuses the pages the connectivity step's gates touched (the counts are bounded above).
-  const bool by_degree =
-      h.predictor == Predictor::kMultiParallelogramDegree || blended(h.predictor);
+  const bool degree = by_degree(h.predictor);
   const auto n_tri = static_cast<std::size_t>(h.n_triangles);
   Scratch scratch;
-  scratch.reserve(std::max(connectivity_scratch_bytes(n_tri),
-                           by_degree ? degree_scratch_bytes(3 * n_tri, h.n_vertices) : 0));
+  const bool grows = growth(h.predictor);
+  scratch.reserve(std::max({connectivity_scratch_bytes(n_tri),
+                            degree ? degree_scratch_bytes(3 * n_tri, h.n_vertices) : 0,
+                            grows ? growth_scratch_bytes(3 * n_tri, h.n_vertices) : 0}));
   {
     const bool polygons = h.flags & kFlagPolygons;
     const Traversal trav = (h.flags & kFlagLeftFirst) ? Traversal::kLeftFirst : Traversal::kRightFirst;
@@ -168,7 +177,11 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   if (h.n_vertices > 0) {
     RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
-    if (by_degree)
+    if (grows)
+      decode_positions_growth(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
+                              rd, br, core.q, h.predictor, h.blend, h.anchored, h.log2_deadline,
+                              &scratch);
+    else if (degree)
       decode_positions_degree(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
                               rd, br, core.q, h.predictor, h.blend, h.anchored, &scratch);
     else

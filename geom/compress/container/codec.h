@@ -31,7 +31,9 @@ struct CompressOptions {
   /// (pulled towards the parallelograms' edge centroid when that measures shorter);
   /// 6–8 + a coded choice among each vertex's parallelograms (predictor 5; isolated vertices
   /// also tried anchored at their nearest vertex) and the left-first traversal with the
-  /// predictor that was smallest right-first; 9 + the left-first traversal with every predictor.
+  /// predictor that was smallest right-first; 9 + the left-first traversal with every predictor,
+  /// and predictors 4 and 5 in growth order (6 and 7: coded in the connectivity's order; on
+  /// some meshes smaller, e.g. the Stanford bunny's zippered scans).
   int level = 7;
   /// Keep the input's vertex order, face order and each face's first corner exactly (costs
   /// about log2(n) bits per vertex and face for a random order, much less for a coherent one).
@@ -72,7 +74,8 @@ struct CompressStats {
   double step = 0.0;        ///< grid step
   double max_error = 0.0;   ///< bound on each coordinate's error: step / 2
   /// 0 delta, 1 parallelogram, 2 multi-parallelogram, 3 multi-parallelogram in degree order
-  /// (decoded, no longer written), 4 the same with the centroid blend (FORMAT.md)
+  /// (decoded, no longer written), 4 the same with the centroid blend, 5 predictor 4 over a
+  /// coded subset of the parallelograms, 6 and 7 predictors 4 and 5 in growth order (FORMAT.md)
   int predictor = 0;
   int traversal = 0;
   std::vector<AttributeStats> attributes;  ///< coded in the extension block

@@ -37,15 +37,18 @@ struct Traversed {
 };
 
 /// A configuration's coding. Only the degree-order predictors renumber the table, so only
-/// they own a table and vertex order; the others read their traversal's (a level tries up
-/// to eight candidates and copying megabytes for each was a fifth of the encode time).
+/// they own a table and vertex order (the growth order with anchored isolated vertices
+/// reorders those, so it owns a vertex order); the others read their traversal's (a level
+/// tries up to eight candidates and copying megabytes for each was a fifth of the encode time).
 struct Candidate {
   const Traversed* base = nullptr;
   Predictor predictor = Predictor::kDelta;
-  Blend blend;  // with kMultiParallelogramBlend and kMultiParallelogramSelect
-  bool anchored = false;  // predictor 5: isolated vertices predicted from anchors
+  Blend blend;  // with predictors 4–7
+  bool anchored = false;  // predictors 5 and 7: isolated vertices predicted from anchors
+  unsigned log2_deadline = 0;  // predictors 6 and 7
   Streams geometry;
   bool renumbered = false;
+  bool reordered = false;  // own vertex order only
   CornerTable own_table;
   std::vector<std::uint32_t> own_vertex_order;
 
@@ -54,7 +57,7 @@ struct Candidate {
   const TraversalOrder& order() const { return base->order; }
   const CornerTable& table() const { return renumbered ? own_table : base->table; }
   const std::vector<std::uint32_t>& vertex_order() const {
-    return renumbered ? own_vertex_order : base->vertex_order;
+    return renumbered || reordered ? own_vertex_order : base->vertex_order;
   }
 };
 
@@ -62,6 +65,9 @@ struct Candidate {
 /// Below level 9 the left-first traversal codes only the predictor whose right-first stream
 /// was smallest (search()): the predictors rank alike on both traversals, and that rule,
 /// the same at levels 6–8, keeps each level's tried set a superset of the one below.
+/// Level 9 also codes predictors 4 and 5 in growth order (6 and 7: the Stanford bunny's
+/// stream is 0.6 % smaller with 7); they decode no faster as a pass of their own yet, so the
+/// lower levels keep the degree order (see predict_growth.cpp).
 std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
   std::vector<std::pair<Traversal, Predictor>> c = {{Traversal::kRightFirst, Predictor::kDelta}};
   if (level >= 1) c.push_back({Traversal::kRightFirst, Predictor::kParallelogram});
@@ -75,7 +81,13 @@ std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
     c.push_back({Traversal::kRightFirst, Predictor::kMultiParallelogramSelect});
     c.push_back({Traversal::kLeftFirst, Predictor::kMultiParallelogramSelect});
   }
-  if (level >= 9) c.push_back({Traversal::kLeftFirst, Predictor::kDelta});
+  if (level >= 9) {
+    c.push_back({Traversal::kLeftFirst, Predictor::kDelta});
+    for (Traversal t : {Traversal::kRightFirst, Traversal::kLeftFirst}) {
+      c.push_back({t, Predictor::kGrowthBlend});
+      c.push_back({t, Predictor::kGrowthSelect});
+    }
+  }
   return c;
 }
 
@@ -260,7 +272,8 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   write_attribute_header(w, attributes.normals.empty() ? 0 : in.options.normal_bits,
                          attributes.uvs.empty() ? nullptr : &attributes.uv_grid);
   if (blended(c.predictor)) w.u8(c.blend.byte());
-  if (c.predictor == Predictor::kMultiParallelogramSelect) w.u8(c.anchored ? 1 : 0);
+  if (selecting(c.predictor)) w.u8(c.anchored ? 1 : 0);
+  if (growth(c.predictor)) w.u8(static_cast<std::uint8_t>(c.log2_deadline));
   w.varint(in.flat.n_faces);
   w.varint(in.flat.table.n_triangles());
   w.varint(nv);
@@ -351,6 +364,37 @@ void search(const EncodeInput& in, std::span<const QPoint> q_in,
   const std::size_t nv = in.flat.positions.size();
   Blend blend;  // predictor 4's weights, measured on the first traversal
   bool blend_measured = false;
+  Blend growth_blend;  // predictor 6's weights and deadline, tuned on the first traversal
+  unsigned log2_deadline = kLog2Deadlines[0];
+  bool growth_tuned = false;
+  // Predictor 6's first streams choose its weights and deadline by size: from predictor 4's
+  // weights, both stepped by 2 while the stream shrinks, upwards first (the probe's proxy,
+  // summed residual bit lengths, pulls too little in growth order: measured there it gives
+  // 3/3 on the 1M-triangle scan, where 7/7 codes 1 % smaller); then the longer deadline, and
+  // on small meshes (whose passes cost little) shorter ones too: with fewer triangles than
+  // the deadline, the wait for two parallelograms can stall the growth.
+  auto tune_growth = [&](Predictor p, auto& try_predictor) {
+    growth_blend = blend;
+    std::size_t size = try_predictor(p, growth_blend, nullptr, false, false, kLog2Deadlines[0]);
+    for (const int dir : {2, -2}) {
+      bool moved = false;
+      for (int step = 0; step < 7; ++step) {
+        const int one = growth_blend.one + dir, many = growth_blend.many + dir;
+        if (one < 0 || many < 0 || one > 15 || many > 15) break;
+        const Blend w{static_cast<std::uint8_t>(one), static_cast<std::uint8_t>(many)};
+        const std::size_t s = try_predictor(p, w, nullptr, false, false, kLog2Deadlines[0]);
+        if (s >= size) break;
+        size = s, growth_blend = w, moved = true;
+      }
+      if (moved) break;
+    }
+    std::vector<unsigned> more(kLog2Deadlines + 1, std::end(kLog2Deadlines));
+    if (nv < (std::size_t{1} << 15)) more.insert(more.end(), {10, 8, 6});
+    for (unsigned d : more) {
+      const std::size_t s = try_predictor(p, growth_blend, nullptr, false, false, d);
+      if (s < size) size = s, log2_deadline = d;
+    }
+  };
   Candidate k;  // scratch: after consider() it holds a losing (or the old best's) buffers
   RansEncoder re;
   // Up to six symbols per vertex; reserving once spares the doubling copies per candidate.
@@ -367,29 +411,44 @@ void search(const EncodeInput& in, std::span<const QPoint> q_in,
     if (preds.empty()) continue;
     Traversed& c = traversals[slot++];
     traverse(in, q_in, isolated, trav, c);
-    auto degree = [](Predictor p) { return p == Predictor::kMultiParallelogramDegree || blended(p); };
     // The predictors on the traversal's own order share one coding pass; each stream is
     // still considered in level order below, so ties resolve as before.
     std::vector<Predictor> in_order;
     for (Predictor p : preds)
-      if (!degree(p)) in_order.push_back(p);
+      if (!by_degree(p) && !growth(p)) in_order.push_back(p);
     std::vector<RansEncoder> each_rans(in_order.size());
     std::vector<BitWriter> each_raw(in_order.size());
     for (RansEncoder& r : each_rans) r.reserve(6 * nv);
     if (!in_order.empty())
       encode_positions_each(c.table, c.q, in.quant.bits, in_order, each_rans, each_raw);
     DegreePlan plan;  // the measuring degree pass's traversal, replayed with the weights
-    // Codes the positions with predictor p on this traversal (replaying with `again`).
+    // Codes the positions with predictor p on this traversal (replaying with `again`);
+    // returns the stream's size.
     auto try_predictor = [&](Predictor p, Blend weights, Blend* suggest, bool again = false,
-                             bool anchored = false) {
+                             bool anchored = false, unsigned log2_deadline = 0) {
       k.base = &c;
       k.predictor = p;
       k.blend = weights;
       k.anchored = anchored;
+      k.log2_deadline = growth(p) ? log2_deadline : 0;
       re.clear();
       BitWriter bw;
-      k.renumbered = degree(p);
-      if (!k.renumbered) {
+      k.renumbered = by_degree(p);
+      k.reordered = false;
+      if (growth(p)) {
+        // The table keeps its numbering; anchored isolated vertices are coded in anchor order.
+        const std::vector<std::uint32_t> seq = encode_positions_growth(
+            c.table, c.q, in.quant.bits, re, bw, p, weights, anchored, log2_deadline);
+        if (!seq.empty()) {
+          k.reordered = true;
+          k.own_vertex_order.resize(seq.size());
+          for (std::size_t i = 0; i < seq.size(); ++i)
+            k.own_vertex_order[i] = c.vertex_order[seq[i]];
+        }
+        k.geometry.rans.clear();
+        if (nv > 0) k.geometry.rans = re.finish();
+        k.geometry.raw = bw.finish();
+      } else if (!k.renumbered) {
         const std::size_t j = static_cast<std::size_t>(
             std::find(in_order.begin(), in_order.end(), p) - in_order.begin());
         k.geometry.rans.clear();
@@ -411,29 +470,36 @@ void search(const EncodeInput& in, std::span<const QPoint> q_in,
       const std::size_t size = consider(in, k, best);
       if (trav == Traversal::kRightFirst && size < right_best_size)
         right_best_size = size, right_best = p, right_best_anchored = anchored;
+      return size;
     };
     for (Predictor p : preds) {
-      if (p == Predictor::kMultiParallelogramSelect) {
+      const Blend& weights = growth(p) ? growth_blend : blend;
+      if (selecting(p)) {
         // The second traversal tries it only where it won the first (it costs a slower pass),
         // and only with the isolated vertices' code that won there.
         if (trav == Traversal::kLeftFirst) {
-          if (right_best == p) try_predictor(p, blend, nullptr, false, right_best_anchored);
+          if (right_best == p)
+            try_predictor(p, weights, nullptr, false, right_best_anchored, log2_deadline);
           continue;
         }
-        try_predictor(p, blend, nullptr);  // the weights predictor 4 measured (it runs first)
+        // The weights (and deadline) measured for the blend, which runs first.
+        try_predictor(p, weights, nullptr, false, false, log2_deadline);
         // Isolated scan points near the surface: from their nearest vertex, not a chain.
         if (!isolated.empty() && c.table.n_vertices > 0)
-          try_predictor(p, blend, nullptr, false, true);
-      } else if (p != Predictor::kMultiParallelogramBlend) {
+          try_predictor(p, weights, nullptr, false, true, log2_deadline);
+      } else if (!blended(p)) {
         try_predictor(p, {}, nullptr);
-      } else if (!blend_measured) {
+      } else if (p == Predictor::kMultiParallelogramBlend && !blend_measured) {
         // The first degree pass measures whether pulling predictions towards the parallelograms'
         // edge centroid would shorten the residuals (irregular, curved scans); if so, try it.
         try_predictor(p, {}, &blend);
         blend_measured = true;
         if (blend.any()) try_predictor(p, blend, nullptr, true);
+      } else if (p == Predictor::kGrowthBlend && !growth_tuned) {
+        growth_tuned = true;
+        tune_growth(p, try_predictor);
       } else {
-        try_predictor(p, blend, nullptr);  // the weights suit the mesh, not the traversal
+        try_predictor(p, weights, nullptr, false, false, log2_deadline);  // they suit the mesh
       }
     }
   }

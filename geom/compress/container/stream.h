@@ -40,9 +40,23 @@ inline std::int64_t unzigzag(std::uint32_t z) {
   return (z & 1u) ? -static_cast<std::int64_t>(z >> 1) - 1 : static_cast<std::int64_t>(z >> 1);
 }
 
-/// Predictors 4 and 5 weigh the blend byte and have bits + 2 length symbols.
+/// Predictors 4–7 weigh the blend byte and have bits + 2 length symbols.
 inline bool blended(Predictor p) {
-  return p == Predictor::kMultiParallelogramBlend || p == Predictor::kMultiParallelogramSelect;
+  return p == Predictor::kMultiParallelogramBlend || p == Predictor::kMultiParallelogramSelect ||
+         p == Predictor::kGrowthBlend || p == Predictor::kGrowthSelect;
+}
+/// Predictors 5 and 7 code a subset of the parallelograms (and have the isolated byte).
+inline bool selecting(Predictor p) {
+  return p == Predictor::kMultiParallelogramSelect || p == Predictor::kGrowthSelect;
+}
+/// Predictors 6 and 7 code in growth order (and have the deadline byte).
+inline bool growth(Predictor p) {
+  return p == Predictor::kGrowthBlend || p == Predictor::kGrowthSelect;
+}
+/// Predictors 3–5 renumber the vertices by the degree order.
+inline bool by_degree(Predictor p) {
+  return p == Predictor::kMultiParallelogramDegree || p == Predictor::kMultiParallelogramBlend ||
+         p == Predictor::kMultiParallelogramSelect;
 }
 
 }  // namespace geom::codec::detail
