@@ -94,7 +94,7 @@ class CollapseEngine {
   bool vertex_alive(std::uint32_t v) const { return vd_[v].ref_size != 0; }
 
   /// The current mesh; out_origin receives the input vertex of each output vertex. With
-  /// options.refit_iterations > 0, out_survivor (if given, sized to the input's
+  /// options.refit_iterations != 0, out_survivor (if given, sized to the input's
   /// vertices_size()) receives for each input vertex the output vertex it was merged into.
   SurfaceMesh extract(std::vector<Vertex>* out_origin,
                       std::vector<Vertex>* out_survivor = nullptr) const;

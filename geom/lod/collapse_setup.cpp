@@ -114,8 +114,8 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
                           std::to_string(options.max_error));
   if (!(options.boundary_weight >= 0) || !std::isfinite(options.boundary_weight))
     throw InvalidArgument("simplify: boundary_weight must be finite and >= 0");
-  if (options.refit_iterations < 0)
-    throw InvalidArgument("simplify: refit_iterations must be >= 0, got " +
+  if (options.refit_iterations < -1)
+    throw InvalidArgument("simplify: refit_iterations must be >= -1 (-1: automatic), got " +
                           std::to_string(options.refit_iterations));
 
   // Dense numbering of the vertices that faces use, in their order: counted per block of
@@ -188,7 +188,7 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     for (std::size_t i = begin; i < end; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
   });
 
-  if (options.refit_iterations > 0) merged_into_.assign(n, kNone);
+  if (options.refit_iterations != 0 && !record_) merged_into_.assign(n, kNone);
   stamp_.assign(n, 0);
   for (Vertex v : options.locked)
     if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;

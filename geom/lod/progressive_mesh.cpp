@@ -23,9 +23,9 @@ std::vector<Point> Geomorph::at(double t) const {
 ProgressiveMesh ProgressiveMesh::build(const SurfaceMesh& mesh, const ProgressiveOptions& options) {
   // A refit moves every level's vertices at once; vertex splits replay single collapses, so
   // refining could no longer reproduce the input exactly.
-  if (options.simplify.refit_iterations != 0)
-    throw InvalidArgument("progressive mesh: refit_iterations must be 0 (a refit is a property "
-                          "of one level, not of a collapse sequence)");
+  if (options.simplify.refit_iterations > 0)
+    throw InvalidArgument("progressive mesh: refit_iterations must be 0 or -1 (a refit is a "
+                          "property of one level, not of a collapse sequence)");
   detail::CollapseEngine engine(mesh, options.simplify, true);
   const std::size_t f0 = engine.n_triangles_initial();
   const SimplifyOptions& so = options.simplify;

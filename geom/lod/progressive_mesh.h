@@ -55,7 +55,8 @@ class ProgressiveMesh {
   /// Record the collapse sequence of simplify(mesh, options.simplify) as vertex splits. The
   /// result is at full resolution. Polygons are fan-triangulated; isolated vertices are
   /// dropped.
-  /// Throws: InvalidArgument as simplify() does, and for refit_iterations other than 0.
+  /// Throws: InvalidArgument as simplify() does, and for refit_iterations above 0
+  /// (-1, automatic, means none here).
   /// Complexity: O(F log F).
   static ProgressiveMesh build(const SurfaceMesh& mesh, const ProgressiveOptions& options = {});
 

@@ -497,7 +497,8 @@ void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
   // the best peer's without them, 0.994× with); below that they triple the walks and turn no
   // row of the error matrix (10% and 1%) from a win into a loss.
   int per_triangle = options.samples_per_triangle;
-  if (per_triangle < 0) per_triangle = original.n_vertices() < 2 * simplified.n_faces() ? 1 : 0;
+  if (per_triangle < 0)
+    per_triangle = refit_needs_surface_samples(original.n_vertices(), simplified.n_faces());
   const std::vector<Sample> samples = sample_original(original, per_triangle);
   // A pull packs its sample's index with the corner in 32 bits.
   if (samples.size() >= (std::size_t{1} << 30))

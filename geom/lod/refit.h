@@ -43,6 +43,14 @@ struct RefitOptions {
 /// Throws: InvalidArgument when `original` gives 2^30 samples or more.
 /// Complexity: O(iterations · S log F) for S samples and F simplified faces; with
 /// `survivor`, O(iterations · S) in practice.
+/// Whether refitting `simplified` needs samples inside the original's triangles (see
+/// RefitOptions::samples_per_triangle): with fewer than two original vertices per simplified
+/// triangle, the vertices alone fit a dense output loosely.
+inline bool refit_needs_surface_samples(std::size_t original_vertices,
+                                        std::size_t simplified_faces) {
+  return original_vertices < 2 * simplified_faces;
+}
+
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       const RefitOptions& options = {}, std::span<const Vertex> fixed = {},
                       std::span<const Vertex> survivor = {});

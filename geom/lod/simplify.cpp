@@ -18,6 +18,21 @@ const char* to_string(SimplifyStop stop) {
   return "unknown";
 }
 
+namespace {
+
+// SimplifyOptions::refit_iterations = -1: a round only where the input's vertices suffice as
+// samples. On the 1M torus that takes the Hausdorff error at 10% from 1.69e-3 to 1.49e-3
+// for 0.4x the collapses' CPU time; it clears every loss of the default in the error matrix
+// at 10% and 1% (torus and hemisphere H, amo and fandisk RMS).
+int refit_rounds(const SimplifyOptions& options, std::size_t input_vertices,
+                 std::size_t output_faces) {
+  if (options.refit_iterations >= 0) return options.refit_iterations;
+  if (options.attributes.any() || output_faces == 0) return 0;
+  return refit_needs_surface_samples(input_vertices, output_faces) ? 0 : 1;
+}
+
+}  // namespace
+
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options) {
   return detail::simplify(mesh, options, detail::CollapseEngine::kParallelMinTriangles);
 }
@@ -33,12 +48,13 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
           : static_cast<std::size_t>(std::llround(options.ratio * static_cast<double>(result.faces_before)));
   result.stop = engine.run(target);
   std::vector<Vertex> survivor;
-  if (options.refit_iterations > 0) survivor.assign(mesh.vertices_size(), Vertex());
+  if (options.refit_iterations != 0) survivor.assign(mesh.vertices_size(), Vertex());
   result.mesh = engine.extract(&result.vertex_origin, &survivor);
   result.faces_after = engine.n_triangles();
   result.collapses = engine.n_collapses();
   result.max_quadric_error = engine.max_error();
-  if (options.refit_iterations > 0) {
+  const int rounds = refit_rounds(options, mesh.n_vertices(), result.mesh.n_faces());
+  if (rounds > 0) {
     // Locks name input vertices; the refit needs them in the output's numbering.
     std::unordered_set<std::uint32_t> locked;
     for (Vertex v : options.locked) locked.insert(v.idx());
@@ -46,7 +62,7 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
     for (std::size_t i = 0; i < result.vertex_origin.size(); ++i)
       if (locked.contains(result.vertex_origin[i].idx()))
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
-    const RefitOptions refit{.iterations = options.refit_iterations,
+    const RefitOptions refit{.iterations = rounds,
                              .min_triangle_quality = options.min_triangle_quality};
     refit_to_surface(result.mesh, mesh, refit, fixed, survivor);
   }

@@ -67,13 +67,16 @@ struct SimplifyOptions {
   /// Not used by ProgressiveMesh.
   SimplifyAttributes attributes{};
   /// Afterwards, refit the output's vertices to the input surface for this many rounds
-  /// (refit.h; Hoppe's fit step): an accuracy mode (RMS 5–25% lower on the benchmark
-  /// meshes), off by default because on a 1M-triangle input it costs 1.8×, 0.4× and 0.25×
-  /// the simplification's own CPU time at 50%, 10% and 1% (its projection and moves run on
-  /// all cores). Boundary and locked vertices stay, faces do not flip, and moves that would
-  /// raise a local Hausdorff estimate are refused. 0: off. ProgressiveMesh (and so
-  /// lod_chain) refuses it: its levels must replay the collapses exactly.
-  int refit_iterations = 0;
+  /// (refit.h; Hoppe's fit step): RMS 5–25% lower on the benchmark meshes. Boundary and
+  /// locked vertices stay, faces do not flip, and moves that would raise a local Hausdorff
+  /// estimate are refused. 0: off. -1 (the default): one round where it is cheap, that is
+  /// when the input has at least two vertices per output triangle (a closed mesh kept at
+  /// about a quarter or less), so that the input's vertices alone are its samples: on a
+  /// 1M-triangle input it then costs 0.25–0.4× the collapses' CPU time (on all cores). Off
+  /// above that, where it needs surface samples too and costs 1.8× at 50%, and off with
+  /// attributes, which it would not move. ProgressiveMesh (and so lod_chain) takes -1 as 0
+  /// and refuses a positive count: its levels must replay the collapses exactly.
+  int refit_iterations = -1;
   /// Called now and then with the fraction done; return false to stop.
   std::function<bool(double)> progress{};
 };
@@ -99,7 +102,7 @@ struct SimplifyResult {
 /// the same as, the one-core order; the result is the same on any number of cores.
 /// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN, an
 /// attribute weight is negative or not finite, an enabled attribute is not on the mesh, or
-/// refit_iterations is negative.
+/// refit_iterations is below -1.
 /// Complexity: O(F log F).
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options = {});
 

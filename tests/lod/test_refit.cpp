@@ -38,6 +38,42 @@ TEST(Refit, LowersRmsOnACurvedSurfaceAndKeepsTheGuarantees) {
   EXPECT_LT(b.relative_hausdorff(), a.relative_hausdorff());
 }
 
+TEST(Refit, NoFaceTurnsAQuarterTurnOnANoisySurface) {
+  // On a rough surface the nearest input triangle says little about orientation (see
+  // Simplify.TorusKeepsTopologyAndReachesTarget); the refit's own promise is against the
+  // collapses' output, whose connectivity it keeps.
+  const SurfaceMesh m = test::torus(80, 40, 1.0, 0.35, 0.05);
+  const SimplifyResult plain = simplify_torus(m, 0);
+  const SimplifyResult fitted = simplify_torus(m, 1);
+  ASSERT_EQ(fitted.mesh.n_faces(), plain.mesh.n_faces());
+  auto normal = [](const SurfaceMesh& s, Face f) {
+    std::vector<Point> c;
+    for (Vertex v : s.vertices(f)) c.push_back(s.position(v));
+    return Eigen::Vector3d((c[1] - c[0]).cross(c[2] - c[0]).normalized());
+  };
+  double worst = 1;
+  for (Face f : fitted.mesh.faces())
+    worst = std::min(worst, normal(fitted.mesh, f).dot(normal(plain.mesh, f)));
+  EXPECT_GT(worst, 0.0);
+  test::expect_same_topology(m, fitted.mesh);
+}
+
+TEST(Refit, IsAutomaticWhereTheInputVerticesSuffice) {
+  // refit_iterations = -1 (the default): one round when the input has at least two vertices
+  // per output triangle (here 10%), none when it has fewer (50%).
+  const SurfaceMesh m = test::torus(80, 40);
+  auto positions = [&](double ratio, int refit) {
+    const SimplifyResult r = simplify(m, {.ratio = ratio, .refit_iterations = refit});
+    std::vector<Point> p;
+    for (Vertex v : r.mesh.vertices()) p.push_back(r.mesh.position(v));
+    return p;
+  };
+  EXPECT_TRUE(positions(0.1, -1) == positions(0.1, 1));
+  EXPECT_FALSE(positions(0.1, -1) == positions(0.1, 0));
+  EXPECT_TRUE(positions(0.5, -1) == positions(0.5, 0));
+  EXPECT_FALSE(positions(0.5, -1) == positions(0.5, 1));
+}
+
 TEST(Refit, WithoutCollapseHistorySearchesTheWholeOutput) {
   // refit_to_surface called directly knows no survivors: every sample takes the tree search
   // instead of the walk simplify() uses. It fits as well.
@@ -62,7 +98,8 @@ TEST(Refit, BoundaryAndLockedVerticesStay) {
   std::vector<Vertex> locked;
   for (Vertex v : m.vertices())
     if (v.idx() % 17 == 0) locked.push_back(v);
-  const SimplifyResult plain = simplify(m, {.ratio = 0.2, .locked = locked});
+  const SimplifyResult plain =
+      simplify(m, {.ratio = 0.2, .locked = locked, .refit_iterations = 0});
   const SimplifyResult fitted =
       simplify(m, {.ratio = 0.2, .locked = locked, .refit_iterations = 2});
   ASSERT_EQ(fitted.mesh.n_vertices(), plain.mesh.n_vertices());
@@ -106,7 +143,7 @@ TEST(Refit, SameResultOnOneThreadAsOnAll) {
 
 TEST(Refit, RejectsNegativeIterations) {
   const SurfaceMesh m = test::torus(20, 10);
-  EXPECT_THROW(simplify(m, {.refit_iterations = -1}), InvalidArgument);
+  EXPECT_THROW(simplify(m, {.refit_iterations = -2}), InvalidArgument);
 }
 
 }  // namespace
