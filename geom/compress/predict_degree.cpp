@@ -236,43 +236,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
     for (std::uint32_t& v : t.vertex) v = new_id[v];
   }
-  if (anchored && n > nc) {
-    // Each isolated vertex is predicted by its anchor, a connected vertex (the nearest, in
-    // the encoder), coded as the gap from the previous one: scan points left out of the
-    // surface lie close to it. The encoder codes them in anchor order and says so in seq.
-    std::vector<std::uint32_t> anchors, by_anchor;
-    if constexpr (requires { reader.truth(0); }) {
-      std::vector<QPoint> points(n - nc);
-      for (std::size_t w = nc; w < n; ++w)
-        points[w - nc] = reader.truth(static_cast<std::uint32_t>(w));
-      anchors = nearest_sites(std::span<const QPoint>(q.data(), nc), points);
-      by_anchor.resize(points.size());
-      for (std::uint32_t k = 0; k < by_anchor.size(); ++k) by_anchor[k] = k;
-      std::stable_sort(by_anchor.begin(), by_anchor.end(),
-                       [&](std::uint32_t a, std::uint32_t b) { return anchors[a] < anchors[b]; });
-    }
-    GammaModel gaps;
-    std::uint64_t at = 0;
-    seq.reserve(n);
-    for (std::size_t w = nc; w < n; ++w) {
-      std::uint32_t src = static_cast<std::uint32_t>(w), gap = 0;
-      if (!by_anchor.empty()) {
-        const std::uint32_t k = by_anchor[w - nc];
-        src = nc + k;
-        gap = static_cast<std::uint32_t>(anchors[k] - at);
-      }
-      reader.anchor(gaps, at, nc, gap);
-      const QPoint p = q[static_cast<std::size_t>(at)];
-      last_rlen = code(reader, src, p, 0, last_rlen, q[w].data());
-      seq.push_back(src);
-    }
-    return seq;
-  }
-  // Isolated vertices follow in stream order, predicted from the previous vertex.
-  for (std::size_t w = nc; w < n; ++w) {
-    const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
-    last_rlen = code(reader, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
-  }
+  code_isolated(reader, q, nc, anchored, last_rlen, seq);
   return seq;
 }
 

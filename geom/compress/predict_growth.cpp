@@ -255,41 +255,10 @@ std::vector<std::uint32_t> growth_pass(const CornerTable& t, std::size_t n, Code
       GrowthPass<kSelect, Coder>(t, coder, q, blend, log2_deadline, scratch).run();
   std::vector<std::uint32_t> seq;
   if (anchored && n > nc) {
-    // As the degree pass (predict_degree.cpp): each isolated vertex from its anchor, a
-    // connected vertex coded as the gap from the previous anchor.
-    std::vector<std::uint32_t> anchors, by_anchor;
-    if constexpr (requires { coder.truth(0); }) {
-      std::vector<QPoint> points(n - nc);
-      for (std::size_t w = nc; w < n; ++w)
-        points[w - nc] = coder.truth(static_cast<std::uint32_t>(w));
-      anchors = nearest_sites(std::span<const QPoint>(q.data(), nc), points);
-      by_anchor.resize(points.size());
-      for (std::uint32_t k = 0; k < by_anchor.size(); ++k) by_anchor[k] = k;
-      std::stable_sort(by_anchor.begin(), by_anchor.end(),
-                       [&](std::uint32_t a, std::uint32_t b) { return anchors[a] < anchors[b]; });
-    }
-    GammaModel gaps;
-    std::uint64_t at = 0;
     seq.resize(nc);
     for (std::uint32_t i = 0; i < nc; ++i) seq[i] = i;
-    for (std::size_t w = nc; w < n; ++w) {
-      std::uint32_t src = static_cast<std::uint32_t>(w), gap = 0;
-      if (!by_anchor.empty()) {
-        const std::uint32_t k = by_anchor[w - nc];
-        src = nc + k;
-        gap = static_cast<std::uint32_t>(anchors[k] - at);
-      }
-      coder.anchor(gaps, at, nc, gap);
-      const QPoint p = q[static_cast<std::size_t>(at)];
-      last_rlen = code(coder, src, p, 0, last_rlen, q[w].data());
-      seq.push_back(src);
-    }
-    return seq;
   }
-  for (std::size_t w = nc; w < n; ++w) {
-    const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
-    last_rlen = code(coder, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
-  }
+  code_isolated(coder, q, nc, anchored, last_rlen, seq);
   return seq;
 }
 

@@ -3,6 +3,7 @@
 /// Residual coding shared by the predictors that code in traversal order (predict.cpp) and
 /// the degree-order pass (predict_degree.cpp); internal to geom/compress.
 
+#include <geom/compress/point_chain.h>
 #include <geom/compress/predict.h>
 #include <geom/compress/rans.h>
 
@@ -266,6 +267,50 @@ QPoint predict_select(Coder& reader, std::uint32_t v, std::int64_t (&cand)[kMaxS
     return r;
   };
   return predict_subset(reader.choose(v, m, count, activity, predict_subset));
+}
+
+/// The isolated vertices q[nc ..) after the connected ones q[0 .. nc) (FORMAT.md, Geometry),
+/// in either pass. Chained: in stream order, each predicted from the previous vertex.
+/// Anchored: each predicted by its anchor, a connected vertex (the nearest, in the encoder)
+/// coded as the gap from the previous one, since scan points left out of the surface lie
+/// close to it; the encoder codes them in anchor order and appends the vertex coded at each
+/// stream position to seq.
+template <class Coder>
+void code_isolated(Coder& coder, std::vector<QPoint>& q, std::size_t nc, bool anchored,
+                   unsigned last_rlen, std::vector<std::uint32_t>& seq) {
+  const std::size_t n = q.size();
+  if (!anchored || n == nc) {
+    for (std::size_t w = nc; w < n; ++w) {
+      const QPoint p = w > 0 ? q[w - 1] : QPoint{0, 0, 0};
+      last_rlen = code(coder, static_cast<std::uint32_t>(w), p, 0, last_rlen, q[w].data());
+    }
+    return;
+  }
+  std::vector<std::uint32_t> anchors, by_anchor;
+  if constexpr (requires { coder.truth(0); }) {
+    std::vector<QPoint> points(n - nc);
+    for (std::size_t w = nc; w < n; ++w) points[w - nc] = coder.truth(static_cast<std::uint32_t>(w));
+    anchors = nearest_sites(std::span<const QPoint>(q.data(), nc), points);
+    by_anchor.resize(points.size());
+    for (std::uint32_t k = 0; k < by_anchor.size(); ++k) by_anchor[k] = k;
+    std::stable_sort(by_anchor.begin(), by_anchor.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return anchors[a] < anchors[b]; });
+  }
+  GammaModel gaps;
+  std::uint64_t at = 0;
+  seq.reserve(n);
+  for (std::size_t w = nc; w < n; ++w) {
+    std::uint32_t src = static_cast<std::uint32_t>(w), gap = 0;
+    if (!by_anchor.empty()) {
+      const std::uint32_t k = by_anchor[w - nc];
+      src = static_cast<std::uint32_t>(nc) + k;
+      gap = static_cast<std::uint32_t>(anchors[k] - at);
+    }
+    coder.anchor(gaps, at, static_cast<std::uint32_t>(nc), gap);
+    const QPoint p = q[static_cast<std::size_t>(at)];
+    last_rlen = code(coder, src, p, 0, last_rlen, q[w].data());
+    seq.push_back(src);
+  }
 }
 
 }  // namespace geom::codec::detail
