@@ -4,6 +4,7 @@
 #include <geom/core/surface_mesh.h>
 #include <geom/core/topology.h>
 #include <geom/core/validate.h>
+#include <geom/lod/simplify.h>
 #include <geom/spatial/bvh.h>
 
 #include <gtest/gtest.h>
@@ -93,6 +94,26 @@ inline SurfaceMesh subdivided_cube(int n) {
         }
     }
   return m;
+}
+
+/// Lock every seventh vertex of m, simplify with `run(m, locked)`, and check that each
+/// locked vertex is in the output, where it was.
+template <class Run>
+void expect_locked_vertices_stay(const SurfaceMesh& m, const Run& run) {
+  std::vector<Vertex> locked;
+  for (Vertex v : m.vertices())
+    if (v.idx() % 7 == 0) locked.push_back(v);
+  const SimplifyResult r = run(m, locked);
+  expect_same_topology(m, r.mesh);
+  std::size_t found = 0;
+  for (Vertex v : r.mesh.vertices()) {
+    const Vertex o = r.vertex_origin[v.idx()];
+    if (o.idx() % 7 == 0) {
+      ++found;
+      EXPECT_EQ(r.mesh.position(v), m.position(o));
+    }
+  }
+  EXPECT_EQ(found, locked.size());
 }
 
 }  // namespace geom::test
