@@ -53,6 +53,7 @@ void add_simplify_command(CLI::App& app) {
                             {"faces_after", r.faces_after},
                             {"collapses", r.collapses},
                             {"max_quadric_error", r.max_quadric_error},
+                            {"refit_rounds", r.refit_rounds},
                             {"stop", to_string(r.stop)}};
         std::string text = std::to_string(r.faces_before) + " -> " + std::to_string(r.faces_after) +
                            " triangles (" + std::to_string(r.collapses) + " collapses; " +

@@ -100,6 +100,7 @@ void bind_simplify(py::module_& m) {
       .def_readonly("faces_after", &SimplifyResult::faces_after)
       .def_readonly("collapses", &SimplifyResult::collapses)
       .def_readonly("max_quadric_error", &SimplifyResult::max_quadric_error)
+      .def_readonly("refit_rounds", &SimplifyResult::refit_rounds)
       .def_property_readonly("stop", [](const SimplifyResult& r) { return std::string(to_string(r.stop)); })
       .def_property_readonly("vertex_origin",
                              [](const SimplifyResult& r) { return index_array(r.vertex_origin); });

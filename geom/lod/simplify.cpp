@@ -54,6 +54,7 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
   result.collapses = engine.n_collapses();
   result.max_quadric_error = engine.max_error();
   const int rounds = refit_rounds(options, mesh.n_vertices(), result.mesh.n_faces());
+  result.refit_rounds = rounds;
   if (rounds > 0) {
     // Locks name input vertices; the refit needs them in the output's numbering.
     std::unordered_set<std::uint32_t> locked;

@@ -90,6 +90,8 @@ struct SimplifyResult {
   /// new vertex (model units). Measure the true surface distance with mesh_distance().
   double max_quadric_error = 0;
   SimplifyStop stop = SimplifyStop::kTargetReached;
+  /// Refit rounds run on the result (SimplifyOptions::refit_iterations, -1 resolved).
+  int refit_rounds = 0;
   /// Input vertex each output vertex came from (its surviving representative).
   std::vector<Vertex> vertex_origin;
 };

@@ -66,7 +66,8 @@ def simplify(mesh, **options):
 
     The result stays manifold, keeps boundary loops and genus, and flips no face. Returns a
     SimplifyResult with ``.mesh``, ``.faces_before``, ``.faces_after``, ``.collapses``,
-    ``.max_quadric_error`` (model units), ``.stop`` (why it stopped) and ``.vertex_origin``
+    ``.max_quadric_error`` (model units), ``.refit_rounds`` (refit rounds run), ``.stop``
+    (why it stopped) and ``.vertex_origin``
     (the input vertex of each output vertex). Measure the surface error with compare().
 
     Raises ValueError (geom.InvalidArgument) for a ratio outside [0, 1], both ratio and

@@ -72,6 +72,9 @@ TEST(Refit, IsAutomaticWhereTheInputVerticesSuffice) {
   EXPECT_FALSE(positions(0.1, -1) == positions(0.1, 0));
   EXPECT_TRUE(positions(0.5, -1) == positions(0.5, 0));
   EXPECT_FALSE(positions(0.5, -1) == positions(0.5, 1));
+  EXPECT_EQ(simplify(m, {.ratio = 0.1}).refit_rounds, 1);
+  EXPECT_EQ(simplify(m, {.ratio = 0.5}).refit_rounds, 0);
+  EXPECT_EQ(simplify(m, {.ratio = 0.5, .refit_iterations = 2}).refit_rounds, 2);
 }
 
 TEST(Refit, WithoutCollapseHistorySearchesTheWholeOutput) {

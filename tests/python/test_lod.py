@@ -91,6 +91,7 @@ def test_refit_lowers_the_error_and_keeps_the_topology():
     d0 = geom.compare(mesh, plain.mesh, samples=20000)
     d1 = geom.compare(mesh, fitted.mesh, samples=20000)
     assert d1.rms < 0.95 * d0.rms
+    assert (plain.refit_rounds, fitted.refit_rounds, geom.simplify(mesh, ratio=0.1).refit_rounds) == (0, 1, 1)
     with pytest.raises(ValueError, match="refit_iterations"):
         geom.simplify(mesh, ratio=0.1, refit=-2)
     # Vertex splits replay single collapses; a refit of one level cannot be replayed.
@@ -106,6 +107,9 @@ def test_cli_simplify_refit(tmp_path, run):
     fitted = run("simplify", src, out, "--ratio", "0.1", "--refit", "1", "--measure", "--json", "--force")
     assert plain.returncode == 0 and fitted.returncode == 0, fitted.stderr
     assert json.loads(fitted.stdout)["rms"] < json.loads(plain.stdout)["rms"]
+    assert (json.loads(plain.stdout)["refit_rounds"], json.loads(fitted.stdout)["refit_rounds"]) == (0, 1)
+    auto = run("simplify", src, out, "--ratio", "0.1", "--json", "--force")
+    assert json.loads(auto.stdout)["refit_rounds"] == 1
     assert "--refit" in run("simplify", "--help").stdout
     assert run("simplify", src, tmp_path / "x.obj", "--ratio", "0.1", "--refit", "-2").returncode == 2
 
