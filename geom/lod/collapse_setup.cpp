@@ -166,7 +166,15 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   // tolerances mean the same at 1e-9 and at 1e9.
   Eigen::AlignedBox3d box;
   box.setEmpty();
-  for (const Point& p : original_positions_) box.extend(p);
+  // A NaN or infinite position would poison every quadric it touches and every cost compared
+  // with them; name it instead.
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point& p = original_positions_[i];
+    if (!p.allFinite())
+      throw InvalidArgument("simplify: vertex " + std::to_string(vertex_of_[i].idx()) +
+                            " has a non-finite position");
+    box.extend(p);
+  }
   if (n > 0) {
     center_ = box.center();
     const double diag = box.diagonal().norm();

@@ -1,3 +1,4 @@
+#include <geom/lod/progressive_mesh.h>
 #include <geom/lod/quadric.h>
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <numbers>
 
 namespace geom {
@@ -325,6 +327,23 @@ TEST(Simplify, RejectsBadOptions) {
   EXPECT_THROW(simplify(m, {.max_error = -1.0}), InvalidArgument);
   EXPECT_THROW(simplify(m, {.max_error = std::nan("")}), InvalidArgument);
   EXPECT_THROW(simplify(m, {.boundary_weight = -1.0}), InvalidArgument);
+}
+
+TEST(Simplify, RejectsNonFinitePositionsNamingTheVertex) {
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    SurfaceMesh m = test::grid(4);
+    m.position(Vertex(7)).y() = bad;
+    for (const bool progressive : {false, true}) {
+      try {
+        if (progressive) ProgressiveMesh::build(m);
+        else simplify(m, {.ratio = 0.5});
+        ADD_FAILURE() << "non-finite position accepted";
+      } catch (const InvalidArgument& e) {
+        EXPECT_NE(std::string(e.what()).find("vertex 7 has a non-finite position"), std::string::npos)
+            << e.what();
+      }
+    }
+  }
 }
 
 }  // namespace
