@@ -66,6 +66,7 @@ void add_compress_command(CLI::App& app) {
                         {"texcoord_bits_per_vertex", 8.0 * r.stats.texcoord_bytes / nv},
                         {"texcoord_max_error", r.stats.texcoord_max_error},
                         {"quantisation_bits", r.stats.bits},
+                        {"chunks", r.stats.chunks},
                         {"max_error", r.stats.max_error},
                         {"dropped_properties", r.stats.dropped_properties}};
     for (const AttributeStats& a : r.stats.attributes)
@@ -95,6 +96,10 @@ void add_compress_command(CLI::App& app) {
       ->check(CLI::Range(0, 9));
   cmd->add_flag("--preserve-order", args->options.preserve_order,
                 "Keep vertex and face order exactly (larger)");
+  cmd->add_option("--chunk-triangles", args->options.chunk_triangles,
+                  "Split meshes of at least twice this many triangles into chunks that decode in "
+                  "parallel (0: one stream; else at least 16384)")
+      ->capture_default_str();
   cmd->add_option("--normal-bits", args->options.normal_bits,
                   "Octahedral bits per normal coordinate, per vertex or corner (2-20; 0 drops normals)")
       ->check(CLI::Range(0, 20));

@@ -37,7 +37,8 @@ void bind_compress(py::module_& m) {
       .def_readwrite("preserve_order", &CompressOptions::preserve_order)
       .def_readwrite("normal_bits", &CompressOptions::normal_bits)
       .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits)
-      .def_readwrite("attribute_bits", &CompressOptions::attribute_bits);
+      .def_readwrite("attribute_bits", &CompressOptions::attribute_bits)
+      .def_readwrite("chunk_triangles", &CompressOptions::chunk_triangles);
   py::class_<AttributeStats>(m, "AttributeStats")
       .def_readonly("name", &AttributeStats::name)
       .def_readonly("bytes", &AttributeStats::bytes)
@@ -59,6 +60,7 @@ void bind_compress(py::module_& m) {
       .def_readonly("max_error", &CompressStats::max_error)
       .def_readonly("predictor", &CompressStats::predictor)
       .def_readonly("traversal", &CompressStats::traversal)
+      .def_readonly("chunks", &CompressStats::chunks)
       .def_readonly("attributes", &CompressStats::attributes)
       .def_readonly("dropped_properties", &CompressStats::dropped_properties);
   py::class_<CompressResult>(m, "CompressResult")

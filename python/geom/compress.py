@@ -19,8 +19,8 @@ dense (live elements counted in index order)."""
 
 
 def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
-             normal_bits=10, texcoord_bits=12, attribute_bits=12, return_permutation=False,
-             return_stats=False):
+             normal_bits=10, texcoord_bits=12, attribute_bits=12, chunk_triangles=262144,
+             return_permutation=False, return_stats=False):
     """Compress ``mesh`` (triangles and polygons, any number of components, boundaries and
     handles) to .gmc bytes.
 
@@ -37,6 +37,10 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     scalars) are quantised per component to ``attribute_bits`` (1–30; 0 drops them) and come
     back under their names. Face and edge properties are not stored:
     ``return_stats=True`` appends the CompressStats, whose ``dropped_properties`` names them.
+    Meshes of at least ``2 * chunk_triangles`` triangles (positions only, order not
+    preserved) are split into spatial chunks that encode and decode on every core, about 1 %
+    larger than one stream (``stats.chunks`` says how many); 0 keeps one stream, other
+    values must be at least 16384.
 
     Returns the bytes, or ``(bytes, Permutation)`` with ``return_permutation=True`` — the
     permutation is the only way to map decoded elements back to the input when the order
@@ -45,7 +49,7 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     """
     options = {"bits": bits, "level": level, "preserve_order": preserve_order,
                "normal_bits": normal_bits, "texcoord_bits": texcoord_bits,
-               "attribute_bits": attribute_bits}
+               "attribute_bits": attribute_bits, "chunk_triangles": chunk_triangles}
     if precision is not None:
         if not precision > 0:
             raise _geom.InvalidArgument(f"compress: precision must be positive, got {precision}")

@@ -99,6 +99,34 @@ def test_bad_options_raise():
         geom.decompress("not bytes")
 
 
+def test_large_meshes_split_into_chunks_that_decode_to_the_same_mesh(run, tmp_path):
+    mesh = torus(200, 100, R=3.0, r=1.0)  # 40000 triangles: 2 chunks of at least 16384
+    data, perm, stats = geom.compress(mesh, bits=14, chunk_triangles=16384,
+                                      return_permutation=True, return_stats=True)
+    assert data[4] == 3 and stats.chunks == 2
+    one, one_perm, one_stats = geom.compress(mesh, bits=14, chunk_triangles=0,
+                                             return_permutation=True, return_stats=True)
+    assert one[4] != 3 and one_stats.chunks == 1
+    out, _ = geom.decompress(data)
+    ref, _ = geom.decompress(one)
+    # One grid for every chunk: each input vertex decodes to the same point either way.
+    v_out = np.empty_like(out.vertices)
+    v_out[perm.vertices] = out.vertices
+    v_ref = np.empty_like(ref.vertices)
+    v_ref[one_perm.vertices] = ref.vertices
+    assert np.array_equal(v_out, v_ref)
+    f_in, f_out = np.asarray(mesh.faces), np.asarray(out.faces)
+    assert sorted(cyclic(perm.vertices[f]) for f in f_out) == sorted(cyclic(f) for f in f_in)
+    assert out.analyze().genus == 1
+    with pytest.raises(ValueError, match="chunk_triangles"):
+        geom.compress(mesh, chunk_triangles=100)
+    src, gmc = tmp_path / "t.ply", tmp_path / "t.gmc"
+    geom.save(mesh, src)
+    r = run("compress", src, gmc, "--chunk-triangles", "16384", "--bits", "14", "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["chunks"] == 2
+
+
 def test_empty_mesh_round_trips():
     out, perm = geom.decompress(geom.compress(geom.Mesh(np.zeros((0, 3)), np.zeros((0, 3), int)),
                                               preserve_order=True))

@@ -3,6 +3,8 @@
 #include <geom/compress/container/codec.h>
 
 #include <geom/compress/attributes.h>
+#include <geom/compress/container/chunks.h>
+#include <geom/compress/container/core.h>
 #include <geom/compress/container/extension.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/container/stream.h>
@@ -21,29 +23,6 @@ namespace {
 
 using namespace codec;
 using namespace codec::detail;
-
-struct Header {
-  std::uint8_t flags = 0;
-  Predictor predictor = Predictor::kDelta;
-  Blend blend;  // with kMultiParallelogramBlend
-  bool anchored = false;  // predictor 5's and 7's isolated vertex byte
-  unsigned log2_deadline = 0;  // predictors 6 and 7
-  Quantiser quantiser;
-  unsigned normal_bits = 0;
-  Quantiser uv_quantiser;
-  std::uint64_t n_faces = 0, n_triangles = 0, n_vertices = 0, n_isolated = 0;
-};
-
-/// Everything up to the decoded positions; shared by decompress and decompress_flat.
-struct Core {
-  Header h;
-  CornerTable table;
-  std::vector<QPoint> q, normals, uvs;
-  std::span<const std::uint8_t> order_rans, order_raw;
-  std::uint64_t order_offset = 0, connectivity_offset = 0;
-  std::size_t extension_at = 0;  // the extension block runs from here to the end
-};
-
 
 /// Every vertex codes three residual lengths, each costing at least −log2(1 − 32(n − 1)/2^15)
 /// > (n − 1)/710 bits with n length symbols: at most 2048/(n − 1) vertices per byte.
@@ -72,7 +51,9 @@ void read_attribute_header(ByteReader& r, Header& h) {
 }
 
 
-Core decode_core(std::span<const std::uint8_t> bytes) {
+}  // namespace
+
+Core codec::detail::decode_core(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes);
   Core core;
   Header& h = core.h;
@@ -81,7 +62,7 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   const std::uint8_t version = r.u8();
   if (version != kVersion && version != kVersionAttributes)
     throw DecodeError(r.offset() - 1, "unsupported stream version " + std::to_string(version) +
-                                          " (this decoder reads versions 1 and 2)");
+                                          " (this decoder reads versions 1, 2 and 3)");
   h.flags = r.u8();
   if (h.flags & ~(version == kVersion ? kKnownFlags & 7 : kKnownFlags))
     throw DecodeError(r.offset() - 1, "unknown flags for version " + std::to_string(version));
@@ -204,6 +185,8 @@ Core decode_core(std::span<const std::uint8_t> bytes) {
   return core;
 }
 
+namespace {
+
 void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where, const char* what) {
   std::vector<std::uint8_t> seen(p.size(), 0);
   for (std::uint32_t i : p) {
@@ -216,7 +199,7 @@ void check_permutation(const std::vector<std::uint32_t>& p, std::uint64_t where,
 }  // namespace
 
 DecompressResult decompress(std::span<const std::uint8_t> bytes) {
-  Core core = decode_core(bytes);
+  Core core = is_chunked(bytes) ? decode_chunked(bytes) : decode_core(bytes);
   const Header& h = core.h;
   const std::size_t nv = static_cast<std::size_t>(h.n_vertices);
   const Polygons polys = reassemble(core.table, core.connectivity_offset);
@@ -312,7 +295,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
 
 namespace codec {
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
-  Core core = decode_core(bytes);
+  Core core = detail::is_chunked(bytes) ? detail::decode_chunked(bytes) : decode_core(bytes);
   FlatDecode out;
   out.positions.resize(3 * core.q.size());
   const Quantiser& qz = core.h.quantiser;
@@ -348,7 +331,15 @@ std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std
   const std::size_t order = (n_vertices * (11 + 31) + n_faces * (2 * 11 + 62) + 7) / 8 + 16;
   // An attribute codes like the positions (fewer bits, same bound) plus ≤ 26 header bytes
   // and two section lengths.
-  return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10) +
+  // A chunked stream (version 3) codes each vertex once per chunk that has it (at most once
+  // per triangle corner in all), with a merge map entry (three gamma values) for every copy
+  // after the first, and a stream header per chunk.
+  std::size_t chunked = 0;
+  if (n_tri >= 2 * kMinChunkTriangles) {
+    const std::size_t chunks = n_tri / kMinChunkTriangles, copies = 3 * n_tri;
+    chunked = 32 + chunks * (128 + 6 * 10 + 16) + (copies * (7 * 11 + 118 + 3 * (11 + 31)) + 7) / 8;
+  }
+  return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10) + chunked +
          max_extension_size(n_vertices, 3 * n_tri, n_corner_attributes, n_generic_components);
 }
 

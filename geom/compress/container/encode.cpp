@@ -4,6 +4,7 @@
 
 #include <geom/compress/attributes.h>
 #include <geom/compress/connectivity.h>
+#include <geom/compress/container/chunks.h>
 #include <geom/compress/container/extension.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/container/stream.h>
@@ -89,11 +90,6 @@ std::vector<std::pair<Traversal, Predictor>> configurations(int level) {
     }
   }
   return c;
-}
-
-void write_section(ByteWriter& w, const std::vector<std::uint8_t>& s) {
-  w.varint(s.size());
-  w.append(s);
 }
 
 void write_attribute_header(ByteWriter& w, unsigned normal_bits, const Quantiser* uv) {
@@ -506,15 +502,9 @@ void search(const EncodeInput& in, std::span<const QPoint> q_in,
 }
 }  // namespace
 
-CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options) {
-  if (options.level < 0 || options.level > 9)
-    throw InvalidArgument("compression level must be in [0, 9], got " + std::to_string(options.level));
-  FlatMesh flat = flatten(mesh);
-  const Quantiser quant = options.precision > 0
-                              ? quantiser_for_precision(flat.positions, options.precision)
-                              : (options.precision < 0 || std::isnan(options.precision)
-                                     ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
-                                     : quantiser_for_bits(flat.positions, options.bits));
+CompressResult codec::detail::compress_on_grid(const SurfaceMesh& mesh,
+                                               const CompressOptions& options,
+                                               const FlatMesh& flat, const Quantiser& quant) {
   const std::size_t nv = flat.positions.size();
   const Attributes attributes = gather_attributes(mesh, options);
   std::vector<QPoint> q_in(nv);
@@ -538,6 +528,23 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     result.face_permutation = std::move(best.face_order);
   }
   return result;
+}
+
+CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options) {
+  if (options.level < 0 || options.level > 9)
+    throw InvalidArgument("compression level must be in [0, 9], got " + std::to_string(options.level));
+  if (options.chunk_triangles != 0 && options.chunk_triangles < kMinChunkTriangles)
+    throw InvalidArgument("compress: chunk_triangles must be 0 (one stream) or at least " +
+                          std::to_string(kMinChunkTriangles) + ", got " +
+                          std::to_string(options.chunk_triangles));
+  const FlatMesh flat = flatten(mesh);
+  const Quantiser quant = options.precision > 0
+                              ? quantiser_for_precision(flat.positions, options.precision)
+                              : (options.precision < 0 || std::isnan(options.precision)
+                                     ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
+                                     : quantiser_for_bits(flat.positions, options.bits));
+  if (auto chunked = compress_chunked(mesh, options, flat, quant)) return std::move(*chunked);
+  return compress_on_grid(mesh, options, flat, quant);
 }
 
 }  // namespace geom

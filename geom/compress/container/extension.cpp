@@ -1,6 +1,7 @@
 #include <geom/compress/container/extension.h>
 
 #include <geom/compress/attributes.h>
+#include <geom/compress/container/stream.h>
 #include <geom/compress/corner_attributes.h>
 #include <geom/compress/predict.h>
 #include <geom/core/soup.h>
@@ -53,11 +54,6 @@ std::uint8_t type_code(const SurfaceMesh& mesh, const std::string& name) {
 }
 
 std::string str(std::size_t x) { return std::to_string(x); }
-
-void write_section(ByteWriter& w, const std::vector<std::uint8_t>& s) {
-  w.varint(s.size());
-  w.append(s);
-}
 
 /// Each flat (input) corner's halfedge: the one of its face that ends at its vertex.
 std::vector<Halfedge> input_corner_halfedges(const SurfaceMesh& mesh, const FlatMesh& flat) {

@@ -3,6 +3,7 @@
 // reader (codec.cpp) share. FORMAT.md is the specification.
 
 #include <geom/compress/predict.h>
+#include <geom/compress/rans.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,12 @@ struct Streams {
   std::vector<std::uint8_t> rans, raw;
   std::size_t size() const { return rans.size() + raw.size(); }
 };
+
+/// A section: its byte length (varint), then its bytes.
+inline void write_section(ByteWriter& w, const std::vector<std::uint8_t>& s) {
+  w.varint(s.size());
+  w.append(s);
+}
 
 inline std::uint32_t zigzag(std::int64_t d) {
   return static_cast<std::uint32_t>(d >= 0 ? 2 * d : -2 * d - 1);

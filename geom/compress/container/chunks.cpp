@@ -1,0 +1,540 @@
+// Chunked streams (version 3): the spatial split and merge map on the way in, the parallel
+// decode and the merge on the way out. FORMAT.md specifies the layout.
+#include <geom/compress/container/chunks.h>
+
+#include <geom/compress/container/stream.h>
+#include <geom/compress/rans.h>
+#include <geom/core/errors.h>
+#include <geom/core/soup.h>
+
+#include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <exception>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+namespace geom::codec::detail {
+
+namespace {
+
+/// The merge map's models, in coding order (FORMAT.md, "Chunked streams").
+struct MergeModels {
+  GammaModel count, gap, chunk, target;
+};
+
+/// A chunk's boundary vertices (those on an edge with one triangle in the chunk; every vertex
+/// it shares with another chunk is one), ordered by grid point, ties by number. The order
+/// depends only on the chunk's geometry, not on how its stream numbered the vertices, so
+/// the merge map costs the same whatever configuration a level picks for each chunk.
+std::vector<std::uint32_t> ranked_boundary(std::vector<std::uint32_t> boundary,
+                                           std::span<const QPoint> q) {
+  std::sort(boundary.begin(), boundary.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return q[a] != q[b] ? q[a] < q[b] : a < b;
+  });
+  return boundary;
+}
+
+std::vector<std::uint32_t> table_boundary(const CornerTable& t) {
+  std::vector<std::uint8_t> on(t.n_vertices, 0);
+  for (std::uint32_t c = 0; c < t.vertex.size(); ++c)
+    if (t.opposite[c] == kNone) on[t.vertex[next_corner(c)]] = on[t.vertex[prev_corner(c)]] = 1;
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t v = 0; v < t.n_vertices; ++v)
+    if (on[v]) out.push_back(v);
+  return out;
+}
+
+// ---- encoder ------------------------------------------------------------------------------
+
+/// Median splits along the longest axis of the face centroids' box, recursively, into
+/// `parts` groups of near-equal face count; each group sorted (input face order).
+void split_faces(std::span<std::uint32_t> faces, std::size_t parts,
+                 const std::vector<Point>& centroid, std::vector<std::vector<std::uint32_t>>& out) {
+  if (parts == 1) {
+    out.emplace_back(faces.begin(), faces.end());
+    std::sort(out.back().begin(), out.back().end());
+    return;
+  }
+  Eigen::AlignedBox3d box;
+  for (std::uint32_t f : faces) box.extend(centroid[f]);
+  int axis = 0;
+  box.diagonal().maxCoeff(&axis);
+  const std::size_t left = parts / 2, cut = faces.size() * left / parts;
+  std::nth_element(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(cut), faces.end(),
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     const double ca = centroid[a][axis], cb = centroid[b][axis];
+                     return ca != cb ? ca < cb : a < b;
+                   });
+  split_faces(faces.first(cut), left, centroid, out);
+  split_faces(faces.subspan(cut), parts - left, centroid, out);
+}
+
+struct Chunk {
+  std::vector<std::uint32_t> faces;     // input (dense) faces, ascending
+  std::vector<std::uint32_t> vertices;  // input (dense) vertex of each chunk vertex, ascending
+  FlatMesh flat;                        // the chunk's faces on their own
+  CompressResult result;
+  std::vector<std::uint32_t> input_of;  // decoded vertex → input vertex
+  std::vector<std::uint32_t> ranked;    // ranked_boundary, decoded numbering
+};
+
+/// A point for each face to be split by: the mean of its fan triangles' corners.
+std::vector<Point> face_centroids(const FlatMesh& flat, std::span<const std::uint32_t> first_tri) {
+  std::vector<Point> out(flat.n_faces);
+  for (std::uint32_t f = 0; f < flat.n_faces; ++f) {
+    Point sum = Point::Zero();
+    for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i)
+      sum += flat.positions[flat.table.vertex[i]];
+    out[f] = sum / (3.0 * (first_tri[f + 1] - first_tri[f]));
+  }
+  return out;
+}
+
+/// Chunk k's faces as a FlatMesh of their own: triangles (with their diagonal flags) in input
+/// order, vertices numbered in input order, opposites kept where both sides are in the chunk.
+/// tri_local[t] is triangle t's place in its chunk; tri_chunk[t] its chunk.
+void cut_chunk(Chunk& c, std::uint32_t k, const FlatMesh& flat,
+               std::span<const std::uint32_t> first_tri, std::span<const std::uint32_t> tri_chunk,
+               std::span<const std::uint32_t> tri_local) {
+  const CornerTable& in = flat.table;
+  for (std::uint32_t f : c.faces)
+    for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i) c.vertices.push_back(in.vertex[i]);
+  std::sort(c.vertices.begin(), c.vertices.end());
+  c.vertices.erase(std::unique(c.vertices.begin(), c.vertices.end()), c.vertices.end());
+  auto local = [&](std::uint32_t v) {
+    return static_cast<std::uint32_t>(std::lower_bound(c.vertices.begin(), c.vertices.end(), v) -
+                                      c.vertices.begin());
+  };
+  FlatMesh& out = c.flat;
+  CornerTable& t = out.table;
+  const bool diagonals = !in.diagonal.empty();
+  for (std::uint32_t f : c.faces) {
+    const auto face = static_cast<std::uint32_t>(out.n_faces++);
+    out.face_first_vertex.push_back(local(flat.face_first_vertex[f]));
+    out.polygons |= first_tri[f + 1] - first_tri[f] > 1;
+    for (std::uint32_t tri = first_tri[f]; tri < first_tri[f + 1]; ++tri) {
+      out.triangle_face.push_back(face);
+      for (std::uint32_t i = 3 * tri; i < 3 * tri + 3; ++i) {
+        t.vertex.push_back(local(in.vertex[i]));
+        const std::uint32_t o = in.opposite[i];
+        t.opposite.push_back(o != kNone && tri_chunk[o / 3] == k ? 3 * tri_local[o / 3] + o % 3 : kNone);
+        if (diagonals) t.diagonal.push_back(in.diagonal[i]);
+      }
+    }
+  }
+  if (!out.polygons) t.diagonal.clear();
+  for (std::uint32_t v : c.vertices) out.positions.push_back(flat.positions[v]);
+  t.n_vertices = static_cast<std::uint32_t>(out.positions.size());
+}
+
+/// The input's vertices no face uses go to the last chunk (the codec codes them last).
+void add_isolated(Chunk& c, const FlatMesh& flat) {
+  std::vector<std::uint8_t> used(flat.positions.size(), 0);
+  for (std::uint32_t v : flat.table.vertex) used[v] = 1;
+  for (std::uint32_t v = 0; v < flat.positions.size(); ++v)
+    if (!used[v]) {
+      c.vertices.push_back(v);
+      c.flat.positions.push_back(flat.positions[v]);
+    }
+  c.flat.table.n_vertices = static_cast<std::uint32_t>(c.flat.positions.size());
+}
+
+/// Whether every vertex that chunks share has a grid point of its own among its chunks'
+/// boundary vertices. The merge map names vertices by their rank in grid point order, which
+/// then does not depend on how a chunk's stream numbers them: it costs the same whichever
+/// configuration a level picks, so levels stay monotonic. With ties (a coarse grid) it
+/// would not, and the mesh is coded as one stream.
+bool seams_distinct(const std::vector<Chunk>& chunks, std::size_t n_vertices,
+                    const Quantiser& grid) {
+  std::vector<std::uint8_t> chunks_of(n_vertices, 0);
+  for (const Chunk& c : chunks)
+    for (std::uint32_t v : c.vertices) chunks_of[v] = static_cast<std::uint8_t>(std::min(chunks_of[v] + 1, 2));
+  std::vector<std::pair<QPoint, bool>> b;
+  for (const Chunk& c : chunks) {
+    b.clear();
+    for (std::uint32_t v : table_boundary(c.flat.table))
+      b.push_back({grid.quantise(c.flat.positions[v]), chunks_of[c.vertices[v]] > 1});
+    std::sort(b.begin(), b.end());
+    for (std::size_t i = 0; i < b.size();) {
+      std::size_t e = i + 1;
+      bool shared = b[i].second;
+      for (; e < b.size() && b[e].first == b[i].first; ++e) shared |= b[e].second;
+      if (e - i > 1 && shared) return false;
+      i = e;
+    }
+  }
+  return true;
+}
+
+/// Codes every later chunk's shared boundary vertices against the first chunk that has
+/// them; returns the global (decoded) numbering's input vertices.
+std::vector<std::uint32_t> code_merges(std::vector<Chunk>& chunks, std::size_t n_vertices,
+                                       const Quantiser& grid, Streams& out) {
+  std::vector<std::uint32_t> first_chunk(n_vertices, kNone), first_local(n_vertices, kNone);
+  for (std::uint32_t k = 0; k < chunks.size(); ++k) {
+    Chunk& c = chunks[k];
+    c.input_of.resize(c.result.vertex_permutation.size());
+    std::vector<QPoint> q(c.input_of.size());
+    for (std::size_t l = 0; l < c.input_of.size(); ++l) {
+      c.input_of[l] = c.vertices[c.result.vertex_permutation[l]];
+      q[l] = grid.quantise(c.flat.positions[c.result.vertex_permutation[l]]);
+      if (first_chunk[c.input_of[l]] == kNone)
+        first_chunk[c.input_of[l]] = k, first_local[c.input_of[l]] = static_cast<std::uint32_t>(l);
+    }
+    std::vector<std::uint32_t> decoded_of(c.input_of.size());
+    for (std::uint32_t l = 0; l < c.input_of.size(); ++l) decoded_of[c.result.vertex_permutation[l]] = l;
+    std::vector<std::uint32_t> boundary;
+    for (std::uint32_t v : table_boundary(c.flat.table)) boundary.push_back(decoded_of[v]);
+    c.ranked = ranked_boundary(std::move(boundary), q);
+  }
+  std::vector<std::vector<std::uint32_t>> rank(chunks.size());
+  for (std::size_t k = 0; k < chunks.size(); ++k) {
+    rank[k].assign(chunks[k].input_of.size(), kNone);
+    for (std::uint32_t r = 0; r < chunks[k].ranked.size(); ++r) rank[k][chunks[k].ranked[r]] = r;
+  }
+  RansEncoder re;
+  BitWriter bw;
+  MergeModels m;
+  std::vector<std::uint32_t> global;
+  for (std::uint32_t k = 0; k < chunks.size(); ++k) {
+    const Chunk& c = chunks[k];
+    for (std::uint32_t l = 0; l < c.input_of.size(); ++l)
+      if (first_chunk[c.input_of[l]] == k && first_local[c.input_of[l]] == l) global.push_back(c.input_of[l]);
+    if (k == 0) continue;
+    std::vector<std::uint32_t> merged;  // ranks in chunk k of vertices an earlier chunk has
+    for (std::uint32_t r = 0; r < c.ranked.size(); ++r)
+      if (first_chunk[c.input_of[c.ranked[r]]] < k) merged.push_back(r);
+    m.count.encode(re, bw, static_cast<std::uint32_t>(merged.size()));
+    std::vector<std::int64_t> last(k, -1);
+    std::int64_t prev = -1;
+    for (std::uint32_t r : merged) {
+      const std::uint32_t v = c.input_of[c.ranked[r]], j = first_chunk[v];
+      const std::uint32_t t = rank[j][first_local[v]];
+      if (t == kNone) throw Error("compress: a shared vertex is not on its first chunk's boundary");
+      m.gap.encode(re, bw, static_cast<std::uint32_t>(r - prev - 1));
+      m.chunk.encode(re, bw, k - 1 - j);
+      m.target.encode(re, bw, zigzag(std::int64_t{t} - last[j] - 1));
+      last[j] = t;
+      prev = r;
+    }
+  }
+  out.rans = re.finish();
+  out.raw = bw.finish();
+  return global;
+}
+
+std::vector<std::string> dropped_names(const SurfaceMesh& mesh) {
+  std::vector<std::string> out;
+  for (auto names : {mesh.property_names<Halfedge>(), mesh.property_names<Edge>(),
+                     mesh.property_names<Face>()})
+    out.insert(out.end(), names.begin(), names.end());
+  return out;
+}
+
+bool has_attributes(const SurfaceMesh& mesh) {
+  for (const std::string& n : mesh.property_names<Vertex>())
+    if (n != SurfaceMesh::kPositions) return true;
+  return mesh.has_property<Halfedge>(prop::kCornerNormal) ||
+         mesh.has_property<Halfedge>(prop::kCornerTexCoord);
+}
+
+CompressResult write_chunked(std::vector<Chunk>& chunks, const Streams& merges,
+                             std::vector<std::uint32_t> global, const Quantiser& grid,
+                             const SurfaceMesh& mesh) {
+  ByteWriter w;
+  for (std::uint8_t b : kMagic) w.u8(b);
+  w.u8(kVersionChunked);
+  w.u8(0);
+  w.varint(chunks.size());
+  write_section(w, merges.rans);
+  write_section(w, merges.raw);
+  CompressResult r;
+  CompressStats& s = r.stats;
+  for (Chunk& c : chunks) {
+    write_section(w, c.result.bytes);
+    s.connectivity_bytes += c.result.stats.connectivity_bytes;
+    s.geometry_bytes += c.result.stats.geometry_bytes;
+    for (std::uint32_t f : c.result.face_permutation) r.face_permutation.push_back(c.faces[f]);
+  }
+  r.bytes = std::move(w.bytes());
+  s.header_bytes = r.bytes.size() - s.connectivity_bytes - s.geometry_bytes;
+  s.chunks = chunks.size();
+  s.bits = grid.bits;
+  s.step = grid.step;
+  s.max_error = grid.max_error();
+  s.predictor = chunks[0].result.stats.predictor;
+  s.traversal = chunks[0].result.stats.traversal;
+  s.dropped_properties = dropped_names(mesh);
+  r.vertex_permutation = std::move(global);
+  return r;
+}
+
+// ---- decoder ------------------------------------------------------------------------------
+
+/// Decodes chunk k, naming offsets in the whole stream.
+Core decode_chunk(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> chunk,
+                  std::size_t k) {
+  const auto base = static_cast<std::uint64_t>(chunk.data() - bytes.data());
+  try {
+    Core core = decode_core(chunk);
+    const std::uint8_t extras = kFlagPreserveOrder | kFlagNormals | kFlagTexcoords | kFlagExtension;
+    if (core.h.flags & extras)
+      throw DecodeError(5, "a chunk may not carry attributes or an order section");
+    return core;
+  } catch (const DecodeError& e) {
+    const std::string what = e.what();
+    const std::size_t colon = what.find(": ");
+    throw DecodeError(base + e.offset(), "chunk " + std::to_string(k) + ": " +
+                                             (colon == std::string::npos ? what : what.substr(colon + 2)));
+  }
+}
+
+struct ChunkedLayout {
+  std::span<const std::uint8_t> merge_rans, merge_raw;
+  std::uint64_t merge_at = 0;
+  std::vector<std::span<const std::uint8_t>> chunks;
+};
+
+ChunkedLayout read_layout(std::span<const std::uint8_t> bytes) {
+  ByteReader r(bytes);
+  for (int i = 0; i < 5; ++i) r.u8();  // magic and version: is_chunked
+  if (r.u8() != 0) throw DecodeError(r.offset() - 1, "unknown flags for version 3");
+  const std::uint64_t n = r.varint();
+  if (n < 2 || n > kMaxChunks || n > r.remaining())
+    throw DecodeError(r.offset() - 1, "chunk count " + std::to_string(n) + " outside 2–" +
+                                          std::to_string(kMaxChunks) + " or beyond the stream");
+  ChunkedLayout l;
+  l.merge_at = r.offset();
+  l.merge_rans = r.take(r.varint());
+  l.merge_raw = r.take(r.varint());
+  for (std::uint64_t k = 0; k < n; ++k) l.chunks.push_back(r.take(r.varint()));
+  if (r.remaining() != 0) throw DecodeError(r.offset(), "trailing bytes after the last chunk");
+  return l;
+}
+
+void check_chunks_agree(const std::vector<Core>& cores, const ChunkedLayout& l,
+                        std::span<const std::uint8_t> bytes) {
+  const Quantiser& g = cores[0].h.quantiser;
+  for (std::size_t k = 0; k < cores.size(); ++k) {
+    const auto at = static_cast<std::uint64_t>(l.chunks[k].data() - bytes.data());
+    const Quantiser& c = cores[k].h.quantiser;
+    if (c.bits != g.bits || c.step != g.step || c.origin != g.origin)
+      throw DecodeError(at, "chunk " + std::to_string(k) + " has a grid other than chunk 0's");
+    if (k + 1 < cores.size() && cores[k].h.n_isolated != 0)
+      throw DecodeError(at, "chunk " + std::to_string(k) + " has isolated vertices (only the last may)");
+  }
+  // As for one stream: numbers and corners stay well inside 32 bits.
+  std::uint64_t vertices = 0, triangles = 0;
+  for (const Core& c : cores) vertices += c.h.n_vertices, triangles += c.h.n_triangles;
+  if (vertices > (1u << 30) || triangles > (1u << 30))
+    throw DecodeError(l.merge_at, "chunks hold more than 2^30 vertices or triangles in all");
+}
+
+/// One merged vertex: chunk k's vertex src is chunk j's vertex dst.
+struct Merge {
+  std::uint32_t src, j, dst;
+};
+
+/// Reads the merge map, checking that each merged pair has one grid point. ranked[k] is
+/// chunk k's ranked_boundary.
+std::vector<std::vector<Merge>> read_merges(const std::vector<Core>& cores,
+                                            const std::vector<std::vector<std::uint32_t>>& ranked,
+                                            const ChunkedLayout& l,
+                                            std::span<const std::uint8_t> bytes) {
+  const auto base = [&](std::span<const std::uint8_t> s) {
+    return static_cast<std::uint64_t>(s.data() - bytes.data());
+  };
+  RansDecoder rd(l.merge_rans, base(l.merge_rans));
+  BitReader br(l.merge_raw, base(l.merge_raw));
+  MergeModels m;
+  std::vector<std::vector<Merge>> merges(cores.size());
+  for (std::size_t k = 1; k < cores.size(); ++k) {
+    const std::uint32_t count = m.count.decode(rd, br);
+    if (count > ranked[k].size())
+      throw DecodeError(rd.offset(), "more merged vertices than chunk boundary vertices");
+    std::vector<std::int64_t> last(k, -1);
+    std::int64_t prev = -1;
+    for (std::uint32_t e = 0; e < count; ++e) {
+      const std::int64_t r = prev + 1 + m.gap.decode(rd, br);
+      const std::uint32_t back = m.chunk.decode(rd, br);
+      if (r >= static_cast<std::int64_t>(ranked[k].size()) || back >= k)
+        throw DecodeError(rd.offset(), "merge map entry out of range");
+      const auto j = static_cast<std::uint32_t>(k - 1 - back);
+      const std::int64_t t = last[j] + 1 + unzigzag(m.target.decode(rd, br));
+      if (t < 0 || t >= static_cast<std::int64_t>(ranked[j].size()))
+        throw DecodeError(rd.offset(), "merge map target out of range");
+      const Merge e_k{ranked[k][static_cast<std::size_t>(r)], j, ranked[j][static_cast<std::size_t>(t)]};
+      if (cores[k].q[e_k.src] != cores[j].q[e_k.dst])
+        throw DecodeError(rd.offset(), "merge map joins vertices at different grid points");
+      merges[k].push_back(e_k);
+      last[j] = t;
+      prev = r;
+    }
+  }
+  rd.finish();
+  return merges;
+}
+
+/// Global numbers: chunk 0's vertices, then each later chunk's unmerged ones, in order.
+/// New numbers per chunk in parallel, then the (few) merged ones in chunk order, so a
+/// merge into a vertex that is itself merged follows it.
+std::vector<std::vector<std::uint32_t>> number_vertices(const std::vector<Core>& cores,
+                                                        const std::vector<std::vector<Merge>>& merges,
+                                                        std::uint32_t& total) {
+  const std::size_t n = cores.size();
+  std::vector<std::vector<std::uint32_t>> global(n);
+  std::vector<std::uint32_t> first(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k)
+    first[k + 1] = first[k] + static_cast<std::uint32_t>(cores[k].q.size() - merges[k].size());
+  total = first[n];
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    std::vector<std::uint32_t>& g = global[k];
+    g.assign(cores[k].q.size(), 0);
+    for (const Merge& e : merges[k]) g[e.src] = kNone;
+    std::uint32_t next = first[k];
+    for (std::uint32_t& x : g) x = x == kNone ? kNone : next++;
+  });
+  for (std::size_t k = 1; k < n; ++k)
+    for (const Merge& e : merges[k]) global[k][e.src] = global[e.j][e.dst];
+  return global;
+}
+
+/// Pairs the boundary corners (of different chunks) that face one edge from both sides.
+void zip_seams(CornerTable& t, const std::vector<std::vector<std::uint32_t>>& open_corners,
+               std::uint64_t where) {
+  std::unordered_map<std::uint64_t, std::uint32_t> open;
+  auto key = [](std::uint64_t a, std::uint64_t b) { return (a << 32) | b; };
+  for (const auto& corners : open_corners)
+    for (std::uint32_t c : corners)
+      if (!open.emplace(key(t.vertex[next_corner(c)], t.vertex[prev_corner(c)]), c).second)
+        throw DecodeError(where, "chunks repeat a directed edge");
+  for (auto [k, c] : open) {
+    if (t.opposite[c] != kNone) continue;
+    const auto it = open.find(key(k & 0xffffffffu, k >> 32));
+    if (it == open.end()) continue;
+    t.opposite[c] = it->second;
+    t.opposite[it->second] = c;
+  }
+}
+
+Core merge(std::vector<Core>& cores, const std::vector<std::vector<std::uint32_t>>& global,
+           std::uint32_t total, std::uint64_t where) {
+  Core out;
+  out.h = cores[0].h;
+  out.h.flags = 0;
+  out.h.n_faces = out.h.n_triangles = out.h.n_vertices = 0;
+  std::vector<std::size_t> corner_at(cores.size() + 1, 0);
+  for (std::size_t k = 0; k < cores.size(); ++k) {
+    out.h.flags |= cores[k].h.flags & kFlagPolygons;
+    out.h.n_faces += cores[k].h.n_faces;
+    out.h.n_triangles += cores[k].h.n_triangles;
+    corner_at[k + 1] = corner_at[k] + cores[k].table.vertex.size();
+  }
+  out.h.n_vertices = total;
+  out.h.n_isolated = cores.back().h.n_isolated;
+  // Chunk 0 keeps its numbers (it has no merges), so its arrays become the merged ones.
+  CornerTable& t = out.table;
+  t = std::move(cores[0].table);
+  t.n_vertices = static_cast<std::uint32_t>(total - out.h.n_isolated);
+  t.vertex.resize(corner_at.back());
+  t.opposite.resize(corner_at.back());
+  const bool polygons = out.h.flags & kFlagPolygons;
+  if (polygons) t.diagonal.resize(corner_at.back(), 0);
+  out.q = std::move(cores[0].q);
+  out.q.resize(total);
+  std::vector<std::vector<std::uint32_t>> open_corners(cores.size());
+  tbb::parallel_for(std::size_t{0}, cores.size(), [&](std::size_t k) {
+    if (k == 0) {
+      for (std::uint32_t i = 0; i < corner_at[1]; ++i)
+        if (t.opposite[i] == kNone) open_corners[0].push_back(i);
+      return;
+    }
+    const CornerTable& c = cores[k].table;
+    const std::size_t b = corner_at[k];
+    for (std::size_t i = 0; i < c.vertex.size(); ++i) {
+      const auto at = static_cast<std::uint32_t>(b + i);
+      t.vertex[at] = global[k][c.vertex[i]];
+      t.opposite[at] = c.opposite[i] == kNone ? kNone : static_cast<std::uint32_t>(b + c.opposite[i]);
+      if (c.opposite[i] == kNone) open_corners[k].push_back(at);
+    }
+    if (polygons && !c.diagonal.empty()) std::copy(c.diagonal.begin(), c.diagonal.end(), t.diagonal.begin() + b);
+    for (std::size_t l = 0; l < cores[k].q.size(); ++l) out.q[global[k][l]] = cores[k].q[l];
+    cores[k].table = {};
+  });
+  zip_seams(t, open_corners, where);
+  out.connectivity_offset = where;
+  return out;
+}
+
+}  // namespace
+
+std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
+                                               const CompressOptions& options,
+                                               const FlatMesh& flat, const Quantiser& grid) {
+  const std::size_t n_tri = flat.table.n_triangles();
+  if (options.chunk_triangles == 0 || options.preserve_order ||
+      n_tri < 2 * options.chunk_triangles || has_attributes(mesh))
+    return std::nullopt;
+  const std::size_t parts = std::min<std::size_t>(n_tri / options.chunk_triangles, kMaxChunks);
+  std::vector<std::uint32_t> first_tri(flat.n_faces + 1, 0);  // a face's fan is consecutive
+  for (std::uint32_t f : flat.triangle_face) ++first_tri[f + 1];
+  for (std::size_t f = 0; f < flat.n_faces; ++f) first_tri[f + 1] += first_tri[f];
+  std::vector<std::uint32_t> order(flat.n_faces);
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<std::vector<std::uint32_t>> groups;
+  split_faces(order, parts, face_centroids(flat, first_tri), groups);
+  std::vector<Chunk> chunks(parts);
+  std::vector<std::uint32_t> tri_chunk(n_tri), tri_local(n_tri);
+  for (std::uint32_t k = 0; k < parts; ++k) {
+    chunks[k].faces = std::move(groups[k]);
+    std::uint32_t n = 0;
+    for (std::uint32_t f : chunks[k].faces)
+      for (std::uint32_t t = first_tri[f]; t < first_tri[f + 1]; ++t) tri_chunk[t] = k, tri_local[t] = n++;
+  }
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
+    cut_chunk(chunks[k], static_cast<std::uint32_t>(k), flat, first_tri, tri_chunk, tri_local);
+  });
+  add_isolated(chunks.back(), flat);
+  if (!seams_distinct(chunks, flat.positions.size(), grid)) return std::nullopt;
+  CompressOptions one = options;
+  one.chunk_triangles = 0;
+  const SurfaceMesh no_attributes;  // the chunks carry positions only
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
+    chunks[k].result = compress_on_grid(no_attributes, one, chunks[k].flat, grid);
+  });
+  Streams merges;
+  std::vector<std::uint32_t> global = code_merges(chunks, flat.positions.size(), grid, merges);
+  return write_chunked(chunks, merges, std::move(global), grid, mesh);
+}
+
+bool is_chunked(std::span<const std::uint8_t> bytes) {
+  return bytes.size() > 4 && std::equal(kMagic, kMagic + 4, bytes.begin()) &&
+         bytes[4] == kVersionChunked;
+}
+
+Core decode_chunked(std::span<const std::uint8_t> bytes) {
+  const ChunkedLayout l = read_layout(bytes);
+  std::vector<Core> cores(l.chunks.size());
+  std::vector<std::vector<std::uint32_t>> ranked(cores.size());
+  std::vector<std::exception_ptr> failed(cores.size());
+  tbb::parallel_for(std::size_t{0}, cores.size(), [&](std::size_t k) {
+    try {
+      cores[k] = decode_chunk(bytes, l.chunks[k], k);
+      ranked[k] = ranked_boundary(table_boundary(cores[k].table), cores[k].q);
+    } catch (...) {
+      failed[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)  // the first chunk's error, whatever finished first
+    if (e) std::rethrow_exception(e);
+  check_chunks_agree(cores, l, bytes);
+  const auto merges = read_merges(cores, ranked, l, bytes);
+  std::uint32_t total = 0;
+  const auto global = number_vertices(cores, merges, total);
+  return merge(cores, global, total, static_cast<std::uint64_t>(l.chunks[0].data() - bytes.data()));
+}
+
+}  // namespace geom::codec::detail

@@ -1,0 +1,43 @@
+#pragma once
+// The part of the stream reader that decompress() and decompress_flat() share: one version 1
+// or 2 stream decoded up to its corner table and grid points (codec.cpp). The chunked reader
+// (chunks.cpp) runs it once per chunk and merges the results into one Core.
+
+#include <geom/compress/connectivity.h>
+#include <geom/compress/predict.h>
+#include <geom/compress/quantise.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace geom::codec::detail {
+
+struct Header {
+  std::uint8_t flags = 0;
+  Predictor predictor = Predictor::kDelta;
+  Blend blend;  // with kMultiParallelogramBlend
+  bool anchored = false;  // predictor 5's and 7's isolated vertex byte
+  unsigned log2_deadline = 0;  // predictors 6 and 7
+  Quantiser quantiser;
+  unsigned normal_bits = 0;
+  Quantiser uv_quantiser;
+  std::uint64_t n_faces = 0, n_triangles = 0, n_vertices = 0, n_isolated = 0;
+};
+
+/// Everything up to the decoded positions.
+struct Core {
+  Header h;
+  CornerTable table;
+  std::vector<QPoint> q, normals, uvs;
+  std::span<const std::uint8_t> order_rans, order_raw;
+  std::uint64_t order_offset = 0, connectivity_offset = 0;
+  std::size_t extension_at = 0;  // the extension block runs from here to the end
+};
+
+/// Decode a version 1 or 2 stream up to its positions and vertex attributes.
+/// Throws: DecodeError naming the byte offset (in `bytes`).
+Core decode_core(std::span<const std::uint8_t> bytes);
+
+}  // namespace geom::codec::detail

@@ -1,0 +1,167 @@
+// Chunked streams (version 3): large meshes split into spatial chunks that decode in
+// parallel. Round trips at every level on closed, open, polygonal, multi-component and
+// shuffled meshes; the same grid and decoded positions as one stream; monotonic levels;
+// when chunking does not apply; and damaged streams.
+
+#include "compress/meshes.h"
+#include "compress/round_trip.h"
+
+#include <geom/compress/container/codec.h>
+#include <geom/core/errors.h>
+#include <geom/core/soup.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+
+namespace geom {
+namespace {
+
+using test::Arrays;
+using test::expect_round_trip;
+
+constexpr std::size_t kChunk = 16384;  // the smallest chunk compress() accepts
+
+/// Offsets of the chunk sections' payloads in a version 3 stream (FORMAT.md layout).
+std::vector<std::size_t> chunk_offsets(const std::vector<std::uint8_t>& b) {
+  std::size_t at = 6;
+  auto varint = [&] {
+    std::uint64_t v = 0;
+    for (int shift = 0;; shift += 7) {
+      const std::uint8_t x = b.at(at++);
+      v |= std::uint64_t{x & 0x7fu} << shift;
+      if (!(x & 0x80)) return v;
+    }
+  };
+  const std::uint64_t n = varint();
+  for (int s = 0; s < 2; ++s) at += varint();  // the merge map's two sections
+  std::vector<std::size_t> out;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    const std::uint64_t len = varint();
+    out.push_back(at);
+    at += len;
+  }
+  EXPECT_EQ(at, b.size());
+  return out;
+}
+
+Arrays mixed_big() {
+  Arrays a = test::torus(200, 100);                    // 40000 triangles, closed
+  a.append(test::grid(150, 120, true), {10, 0, 0});    // 18000 quads, open
+  a.append(test::holey_slab(6, false), {0, 10, 0});    // quads, high genus
+  a.points.push_back({7, 7, 7});                       // isolated
+  a.points.push_back({-7, 7, 7});
+  return a.shuffled(3);
+}
+
+TEST(Chunks, RoundTripAtEveryLevel) {
+  const SurfaceMesh m = test::torus(200, 100).build();
+  EXPECT_EQ(compress(m, {.chunk_triangles = kChunk}).stats.chunks, 2u);
+  for (int level : {0, 1, 3, 5, 7, 9}) expect_round_trip(m, {.level = level, .chunk_triangles = kChunk}, false);
+}
+
+TEST(Chunks, RoundTripPolygonsComponentsIsolatedVerticesShuffled) {
+  // 14 bits: the dense quad grid's seam vertices need their own grid points (see below).
+  const SurfaceMesh m = mixed_big().build();
+  const CompressResult c = compress(m, {.bits = 14, .chunk_triangles = kChunk});
+  EXPECT_EQ(c.stats.chunks, 4u);
+  for (int level : {0, 7}) expect_round_trip(m, {.bits = 14, .level = level, .chunk_triangles = kChunk}, false);
+}
+
+TEST(Chunks, SameGridAndPositionsAsOneStream) {
+  const SurfaceMesh m = mixed_big().build();
+  const CompressResult one = compress(m, {.bits = 14, .chunk_triangles = 0});
+  const CompressResult many = compress(m, {.bits = 14, .chunk_triangles = kChunk});
+  ASSERT_EQ(one.stats.chunks, 1u);
+  ASSERT_GT(many.stats.chunks, 1u);
+  EXPECT_EQ(one.stats.step, many.stats.step);
+  EXPECT_EQ(one.stats.max_error, many.stats.max_error);
+  const auto a = test::points_of(decompress(one.bytes).mesh);
+  const auto b = test::points_of(decompress(many.bytes).mesh);
+  std::vector<Point> by_input(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) by_input[one.vertex_permutation[i]] = a[i];
+  for (std::size_t i = 0; i < b.size(); ++i)
+    ASSERT_EQ(b[i], by_input[many.vertex_permutation[i]]) << "vertex " << i;
+  // The flat decode gives the same triangles and (float) positions as the mesh decode.
+  const codec::FlatDecode flat = codec::decompress_flat(many.bytes);
+  ASSERT_EQ(flat.positions.size(), 3 * b.size());
+  for (std::size_t i = 0; i < b.size(); ++i)
+    for (int x = 0; x < 3; ++x) ASSERT_EQ(flat.positions[3 * i + x], static_cast<float>(b[i][x]));
+  std::size_t triangles = 0;
+  for (Face f : m.faces()) triangles += m.valence(f) - 2;
+  EXPECT_EQ(flat.triangles.size(), 3 * triangles);
+  // Seams cost some bytes: a few percent at this small chunk size.
+  EXPECT_LT(many.bytes.size(), one.bytes.size() * 110 / 100);
+}
+
+TEST(Chunks, LevelsAreMonotonic) {
+  const SurfaceMesh m = test::torus(200, 100).build();
+  std::size_t prev = SIZE_MAX;
+  for (int level = 0; level <= 9; ++level) {
+    const CompressResult c = compress(m, {.level = level, .chunk_triangles = kChunk});
+    ASSERT_EQ(c.stats.chunks, 2u);
+    EXPECT_LE(c.bytes.size(), prev) << "level " << level;
+    prev = c.bytes.size();
+  }
+}
+
+TEST(Chunks, OnlyWhereTheyApply) {
+  SurfaceMesh m = test::torus(200, 100).build();
+  EXPECT_EQ(compress(m, {.chunk_triangles = 20001}).stats.chunks, 1u);  // under twice the size
+  EXPECT_EQ(compress(m, {.chunk_triangles = 0}).stats.chunks, 1u);
+  EXPECT_EQ(compress(m, {.preserve_order = true, .chunk_triangles = kChunk}).stats.chunks, 1u);
+  expect_round_trip(m, {.preserve_order = true, .chunk_triangles = kChunk}, true);
+  // A grid too coarse to tell the seam vertices apart: one stream, still exact.
+  EXPECT_EQ(compress(m, {.bits = 5, .chunk_triangles = kChunk}).stats.chunks, 1u);
+  expect_round_trip(m, {.bits = 5, .chunk_triangles = kChunk}, false);
+  auto normals = m.add_property<Vertex, Normal>(prop::kVertexNormal);
+  for (Vertex v : m.vertices()) normals[v] = Normal(0, 0, 1);
+  EXPECT_EQ(compress(m, {.chunk_triangles = kChunk}).stats.chunks, 1u);
+  EXPECT_THROW(compress(m, {.chunk_triangles = 1000}), InvalidArgument);
+}
+
+TEST(Chunks, DamagedStreamsThrow) {
+  const SurfaceMesh m = test::torus(200, 100).build();
+  const std::vector<std::uint8_t> good = compress(m, {.chunk_triangles = kChunk}).bytes;
+  const std::vector<std::size_t> at = chunk_offsets(good);
+  ASSERT_EQ(at.size(), 2u);
+  auto error_of = [](const std::vector<std::uint8_t>& b) -> std::string {
+    try {
+      decompress(b);
+    } catch (const DecodeError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  std::vector<std::uint8_t> b = good;
+  b[at[1] + 4] = 9;  // chunk 1's version byte
+  EXPECT_EQ(error_of(b), "byte " + std::to_string(at[1] + 4) + ": chunk 1: unsupported stream version 9 "
+                         "(this decoder reads versions 1, 2 and 3)");
+  b = good;
+  b[5] = 1;
+  EXPECT_NE(error_of(b).find("unknown flags"), std::string::npos);
+  b = good;
+  b[6] = 1;  // one chunk
+  EXPECT_NE(error_of(b).find("chunk count"), std::string::npos);
+  b = good;
+  b[at[1] + 9] ^= 0x40;  // chunk 1's grid origin
+  EXPECT_NE(error_of(b).find("grid other than chunk 0's"), std::string::npos) << error_of(b);
+  for (std::size_t n = 0; n < good.size(); n += 1 + n / 8) {
+    const std::vector<std::uint8_t> cut(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n));
+    EXPECT_THROW(decompress(cut), DecodeError) << "truncated at " << n;
+  }
+  std::mt19937 rng(5);
+  for (int i = 0; i < 300; ++i) {
+    b = good;
+    b[rng() % b.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+    try {
+      const DecompressResult d = decompress(b);
+      EXPECT_EQ(d.mesh.n_faces(), m.n_faces());  // a flipped raw bit may only move a point
+    } catch (const DecodeError&) {
+    }
+  }
+}
+
+}  // namespace
+}  // namespace geom
