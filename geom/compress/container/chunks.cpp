@@ -95,38 +95,48 @@ std::vector<Point> face_centroids(const FlatMesh& flat, std::span<const std::uin
 
 /// Chunk k's faces as a FlatMesh of their own: triangles (with their diagonal flags) in input
 /// order, vertices numbered in input order, opposites kept where both sides are in the chunk.
-/// tri_local[t] is triangle t's place in its chunk; tri_chunk[t] its chunk.
+/// place[t] is triangle t's chunk (high half) and its place in the chunk (low half): one
+/// read per opposite, which is anywhere in a shuffled input. local_of is scratch: kNone for
+/// every input vertex on entry and on return.
 void cut_chunk(Chunk& c, std::uint32_t k, const FlatMesh& flat,
-               std::span<const std::uint32_t> first_tri, std::span<const std::uint32_t> tri_chunk,
-               std::span<const std::uint32_t> tri_local) {
+               std::span<const std::uint32_t> first_tri, std::span<const std::uint64_t> place,
+               std::vector<std::uint32_t>& local_of) {
   const CornerTable& in = flat.table;
   for (std::uint32_t f : c.faces)
-    for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i) c.vertices.push_back(in.vertex[i]);
+    for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i)
+      if (local_of[in.vertex[i]] == kNone) {
+        local_of[in.vertex[i]] = 0;
+        c.vertices.push_back(in.vertex[i]);
+      }
   std::sort(c.vertices.begin(), c.vertices.end());
-  c.vertices.erase(std::unique(c.vertices.begin(), c.vertices.end()), c.vertices.end());
-  auto local = [&](std::uint32_t v) {
-    return static_cast<std::uint32_t>(std::lower_bound(c.vertices.begin(), c.vertices.end(), v) -
-                                      c.vertices.begin());
-  };
+  for (std::uint32_t l = 0; l < c.vertices.size(); ++l) local_of[c.vertices[l]] = l;
   FlatMesh& out = c.flat;
   CornerTable& t = out.table;
   const bool diagonals = !in.diagonal.empty();
+  std::size_t n_corners = 0;
+  for (std::uint32_t f : c.faces) n_corners += 3 * (first_tri[f + 1] - first_tri[f]);
+  t.vertex.reserve(n_corners);
+  t.opposite.reserve(n_corners);
   for (std::uint32_t f : c.faces) {
     const auto face = static_cast<std::uint32_t>(out.n_faces++);
-    out.face_first_vertex.push_back(local(flat.face_first_vertex[f]));
+    out.face_first_vertex.push_back(local_of[flat.face_first_vertex[f]]);
     out.polygons |= first_tri[f + 1] - first_tri[f] > 1;
     for (std::uint32_t tri = first_tri[f]; tri < first_tri[f + 1]; ++tri) {
       out.triangle_face.push_back(face);
       for (std::uint32_t i = 3 * tri; i < 3 * tri + 3; ++i) {
-        t.vertex.push_back(local(in.vertex[i]));
+        t.vertex.push_back(local_of[in.vertex[i]]);
         const std::uint32_t o = in.opposite[i];
-        t.opposite.push_back(o != kNone && tri_chunk[o / 3] == k ? 3 * tri_local[o / 3] + o % 3 : kNone);
+        const std::uint64_t p = o == kNone ? 0 : place[o / 3];
+        t.opposite.push_back(o != kNone && p >> 32 == k ? 3 * static_cast<std::uint32_t>(p) + o % 3 : kNone);
         if (diagonals) t.diagonal.push_back(in.diagonal[i]);
       }
     }
   }
   if (!out.polygons) t.diagonal.clear();
-  for (std::uint32_t v : c.vertices) out.positions.push_back(flat.positions[v]);
+  for (std::uint32_t v : c.vertices) {
+    out.positions.push_back(flat.positions[v]);
+    local_of[v] = kNone;
+  }
   t.n_vertices = static_cast<std::uint32_t>(out.positions.size());
 }
 
@@ -487,16 +497,15 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   std::vector<std::vector<std::uint32_t>> groups;
   split_faces(order, parts, face_centroids(flat, first_tri), groups);
   std::vector<Chunk> chunks(parts);
-  std::vector<std::uint32_t> tri_chunk(n_tri), tri_local(n_tri);
+  std::vector<std::uint64_t> place(n_tri);
   for (std::uint32_t k = 0; k < parts; ++k) {
     chunks[k].faces = std::move(groups[k]);
     std::uint32_t n = 0;
     for (std::uint32_t f : chunks[k].faces)
-      for (std::uint32_t t = first_tri[f]; t < first_tri[f + 1]; ++t) tri_chunk[t] = k, tri_local[t] = n++;
+      for (std::uint32_t t = first_tri[f]; t < first_tri[f + 1]; ++t) place[t] = (std::uint64_t{k} << 32) | n++;
   }
-  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
-    cut_chunk(chunks[k], static_cast<std::uint32_t>(k), flat, first_tri, tri_chunk, tri_local);
-  });
+  std::vector<std::uint32_t> local_of(flat.positions.size(), kNone);
+  for (std::uint32_t k = 0; k < parts; ++k) cut_chunk(chunks[k], k, flat, first_tri, place, local_of);
   add_isolated(chunks.back(), flat);
   if (!seams_distinct(chunks, flat.positions.size(), grid)) return std::nullopt;
   CompressOptions one = options;
