@@ -52,12 +52,15 @@ std::size_t max_gates_for(std::size_t n_triangles) { return 3 * n_triangles; }
 
 class Region {
  public:
-  Region(std::size_t n_triangles, Scratch& scratch) : sentinel_(static_cast<std::uint32_t>(
-                                                          max_gates_for(n_triangles))) {
+  /// vertex_hint: the vertices expected (a guess: if more arrive, the records double).
+  Region(std::size_t n_triangles, std::size_t vertex_hint, Scratch& scratch)
+      : sentinel_(static_cast<std::uint32_t>(max_gates_for(n_triangles))) {
     scratch.reserve(connectivity_scratch_bytes(n_triangles));
     gates_ = scratch.array<Gate>(0, sentinel_ + std::size_t{1});
     gates_[sentinel_] = {kNone, kNone, kNone, kNone, kNone};
-    vertices_.resize(n_triangles / 2 + 3);
+    // Closed meshes have about T/2 vertices; a mesh with boundaries more, which would cost
+    // a doubling (twice the records cleared, and copied) unless the caller knows better.
+    vertices_.resize(std::min(std::max(vertex_hint, n_triangles / 2), 3 * n_triangles) + 3);
   }
   std::uint32_t add_vertex() { return add_vertex_if(true); }
   /// The id the next vertex gets; it is added only when `take` (no branch on it: the
@@ -71,8 +74,16 @@ class Region {
   }
   std::uint32_t n_vertices() const { return n_vertices_; }
   /// Decoded triangles around v, saturated at kFanClasses − 1.
-  unsigned fan(std::uint32_t v) const { return vertices_[v].fan; }
-  void add_corner(std::uint32_t v) { vertices_[v].fan += vertices_[v].fan < kFanClasses - 1; }
+  unsigned fan(std::uint32_t v) const {
+    return std::min<std::uint32_t>(vertices_[v].corners, kFanClasses - 1);
+  }
+  void add_corner(std::uint32_t v) { ++vertices_[v].corners; }
+  /// Each vertex's corners (the degree pass's wedge lists are sized by them; counting here,
+  /// in records the growth touches anyway, saves it a scattered pass over every corner).
+  void corner_counts(std::vector<std::uint32_t>& out) const {
+    out.resize(n_vertices_);
+    for (std::uint32_t v = 0; v < n_vertices_; ++v) out[v] = vertices_[v].corners;
+  }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
   bool is_open(std::uint32_t g) const { return gates_[g].to != kNone; }
   void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_ + g); }
@@ -123,7 +134,7 @@ class Region {
   struct Vertex {
     std::uint32_t out = kNone, in = kNone;  // list heads: newest open gate
     std::uint32_t after = kNone, before = kNone;  // their far ends
-    std::uint32_t fan = 0;
+    std::uint32_t corners = 0;  // decoded triangles around the vertex (< 3T, no overflow)
   };
   // kNone (no gate) becomes the sentinel, whose ends are kNone: no branch.
   std::uint32_t real(std::uint32_t g) const { return std::min(g, sentinel_); }
@@ -171,15 +182,15 @@ std::uint32_t walk_find(const Region& region, std::uint32_t u, std::uint32_t v, 
 /// (the encoder reads them off the input and codes them, the decoder reads them from the
 /// stream), so both sides build the same table by construction.
 template <class Driver>
-void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal, CornerTable& out,
-          Scratch& scratch) {
+void grow(Driver& d, std::size_t n_triangles, GrowHints hints, bool polygons,
+          Traversal traversal, CornerTable& out, Scratch& scratch) {
   out.vertex.clear();
   reserve_huge(out.vertex, 3 * n_triangles);
   out.opposite.clear();
   reserve_huge(out.opposite, 3 * n_triangles);
   out.diagonal.clear();
   if (polygons) out.diagonal.reserve(3 * n_triangles);
-  Region region(n_triangles, scratch);
+  Region region(n_triangles, hints.vertices, scratch);
   std::vector<std::uint32_t> stack;
 
   auto pair = [&](std::uint32_t a, std::uint32_t b) {
@@ -271,6 +282,8 @@ void grow(Driver& d, std::size_t n_triangles, bool polygons, Traversal traversal
     }
   }
   out.n_vertices = region.n_vertices();
+  out.corners_of.clear();
+  if (hints.count_corners) region.corner_counts(out.corners_of);
 }
 
 class Encoder {
@@ -484,15 +497,16 @@ void encode_connectivity(const CornerTable& input, bool polygons, Traversal trav
                          TraversalOrder& order) {
   Encoder enc(input, rans, raw, order);
   Scratch scratch;
-  grow(enc, input.n_triangles(), polygons, traversal, decoded, scratch);
+  // The encoder runs the degree pass on the decoded table (when it tries predictors 3–5).
+  grow(enc, input.n_triangles(), {input.n_vertices, true}, polygons, traversal, decoded, scratch);
 }
 
 void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
                          RansDecoder& rans, BitReader& raw, CornerTable& decoded,
-                         Scratch* scratch) {
+                         Scratch* scratch, GrowHints hints) {
   Decoder dec(rans, raw, n_triangles);
   Scratch own;
-  grow(dec, n_triangles, polygons, traversal, decoded, scratch ? *scratch : own);
+  grow(dec, n_triangles, hints, polygons, traversal, decoded, scratch ? *scratch : own);
 }
 
 }  // namespace geom::codec::detail

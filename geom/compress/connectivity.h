@@ -31,6 +31,10 @@ struct CornerTable {
   std::vector<std::uint32_t> opposite;  ///< per corner; kNone across a boundary edge
   /// Per corner, 1 when the edge opposite is a polygon diagonal (empty: all triangles).
   std::vector<std::uint8_t> diagonal;
+  /// Per vertex, its corners, as the connectivity coder counted them while growing the
+  /// table (n_vertices entries; the encoder always, the decoder when asked); empty when not
+  /// known. Whatever renumbers or edits the table clears it.
+  std::vector<std::uint32_t> corners_of;
   std::size_t n_triangles() const { return vertex.size() / 3; }
 };
 
@@ -56,13 +60,22 @@ void encode_connectivity(const CornerTable& input, bool polygons, Traversal trav
                          RansEncoder& rans, BitWriter& raw, CornerTable& decoded,
                          TraversalOrder& order);
 
+/// What the caller of decode_connectivity knows or wants beyond the table.
+struct GrowHints {
+  /// The vertices expected (the stream header's count): any value is safe, a good one saves
+  /// the vertex records a reallocation on meshes with boundaries.
+  std::size_t vertices = 0;
+  /// Fill CornerTable::corners_of (for the degree pass).
+  bool count_corners = false;
+};
+
 /// Rebuild the corner table of n_triangles triangles from the streams. Its gates live in
 /// `scratch` (a block of its own when null), dead on return.
 /// Throws: DecodeError (with the byte offset) on truncated or inconsistent data.
 /// Complexity: O(T).
 void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
                          RansDecoder& rans, BitReader& raw, CornerTable& decoded,
-                         Scratch* scratch = nullptr);
+                         Scratch* scratch = nullptr, GrowHints hints = {});
 
 /// The scratch bytes decode_connectivity uses for n_triangles.
 std::size_t connectivity_scratch_bytes(std::size_t n_triangles);

@@ -110,6 +110,7 @@ std::vector<std::uint32_t> degree_order(CornerTable& t) {
   std::vector<std::uint32_t> new_id(n);
   for (std::uint32_t i = 0; i < n; ++i) new_id[seq[i]] = i;
   for (std::uint32_t& v : t.vertex) v = new_id[v];
+  t.corners_of.clear();
   return seq;
 }
 
@@ -213,19 +214,11 @@ void encode_positions_each(const CornerTable& t, std::span<const QPoint> q, unsi
   }
 }
 
-std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
-                           std::uint32_t top) {
-  std::int64_t m;
-  if (count < (1u << 24)) {
-    // |s| < count·2^31 and 0 ≤ e < count·2^31, so 2·num + den stays below 2^62.
-    const std::int64_t num = 2 * std::int64_t(16 - k) * s + std::int64_t(k) * e;
-    const std::int64_t den = 32 * std::int64_t{count};
-    m = floor_div(2 * num + den, 2 * den);
-  } else {
-    __extension__ typedef __int128 Wide;  // a vertex on millions of triangles
-    const Wide num = 2 * Wide(16 - k) * s + Wide(k) * e, den = Wide(32) * count;
-    m = static_cast<std::int64_t>(floor_div<Wide>(2 * num + den, 2 * den));
-  }
+std::uint32_t blended_mean_wide(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                                std::uint32_t top) {
+  __extension__ typedef __int128 Wide;  // a vertex on millions of triangles
+  const Wide num = 2 * Wide(16 - k) * s + Wide(k) * e, den = Wide(32) * count;
+  const auto m = static_cast<std::int64_t>(floor_div<Wide>(2 * num + den, 2 * den));
   return static_cast<std::uint32_t>(std::clamp<std::int64_t>(m, 0, top));
 }
 

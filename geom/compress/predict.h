@@ -102,8 +102,25 @@ void decode_positions(const CornerTable& table, std::size_t n, unsigned bits, Pr
 /// summing to s, whose edge ends a + b sum to e: (16 − k)/16 of their mean s/count plus k/16
 /// of the ends' centroid e/(2·count), i.e. floor((2N + D) / 2D) with N = 2(16 − k)·s + k·e
 /// and D = 32·count, clamped to [0, top]. Exact. Pre: count > 0, k < 16.
-std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
-                           std::uint32_t top);
+std::uint32_t blended_mean_wide(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                                std::uint32_t top);  // in 128 bits, for counts ≥ 2^24
+inline std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count, unsigned k,
+                                  std::uint32_t top) {
+  if (count >= (1u << 24)) [[unlikely]] return blended_mean_wide(s, e, count, k, top);
+  // |s| < count·2^31 and 0 ≤ e < count·2^31, so 2·num + den stays below 2^62. Inline, and
+  // floor(x / 64c) taken as floor(floor(x / 64) / c): a shift, then a division only by the
+  // count (none for one or two parallelograms, the common cases), once per axis and vertex.
+  const std::int64_t num = 2 * std::int64_t(16 - k) * s + std::int64_t(k) * e;
+  const std::int64_t x = (2 * num + 32 * std::int64_t{count}) >> 6;  // arithmetic: floor
+  std::int64_t m = x;
+  if (count == 2) {
+    m = x >> 1;
+  } else if (count > 2) {
+    m = x / count;
+    if (m * count > x) --m;  // truncated towards zero: floor for negative x
+  }
+  return static_cast<std::uint32_t>(m < 0 ? 0 : (m > top ? top : m));
+}
 
 /// predictor is kMultiParallelogramDegree, kMultiParallelogramBlend (whose predictions
 /// with parallelograms are pulled towards their edges' centroid by `blend`; FORMAT.md) or

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace geom::codec::detail {
@@ -93,22 +94,38 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   scratch.reserve(degree_scratch_bytes(n_corners, nc));
   Wedge* const wedge = scratch.array<Wedge>(0, n_corners);  // every one written below
   Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc + 1);
-  std::fill_n(slot, nc + 1, Slot{{0, 0, 0}, kNone, 0, 0, 0});
   {
-    for (std::uint32_t v : t.vertex) ++slot[v + 1].first;
-    for (std::uint32_t i = 1; i <= nc; ++i) slot[i].first += slot[i - 1].first;
-    // Fill with the records' `order` fields as cursors, then restore them.
-    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = slot[i].first;
+    // Each vertex's corner count (counted by the connectivity decoder while it grew the
+    // table, else here) becomes its wedge list's start and, in place, its fill cursor: the
+    // scatter below then bumps a dense array that stays in cache, not the wide records.
+    std::vector<std::uint32_t> cursor = std::move(t.corners_of);
+    t.corners_of.clear();
+    std::uint32_t run = 0;
+    // Counts that do not add up to the corners (a table edited without clearing them) are
+    // recounted. The check is a cheap guard, not a proof: per-vertex counts are trusted.
+    for (bool recount = cursor.size() != nc;; recount = true) {
+      if (recount) {
+        cursor.assign(nc, 0);
+        for (std::uint32_t v : t.vertex) ++cursor[v];
+      }
+      run = 0;
+      for (std::uint32_t v = 0; v < nc; ++v) {
+        slot[v] = Slot{{0, 0, 0}, kNone, run, 0, 0};
+        run += std::exchange(cursor[v], run);
+      }
+      if (run == n_corners || recount) break;
+    }
+    slot[nc] = Slot{{0, 0, 0}, kNone, run, 0, 0};  // never taken: boundary wedges' c
     const std::uint32_t* vx = t.vertex.data();
     const std::uint32_t* op = t.opposite.data();
-    for (std::size_t c = 0; c < t.vertex.size(); c += 3) {
+    std::uint32_t* const at = cursor.data();
+    for (std::size_t c = 0; c < n_corners; c += 3) {
       const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
       const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
-      wedge[slot[v0].order++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
-      wedge[slot[v1].order++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
-      wedge[slot[v2].order++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
+      wedge[at[v0]++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
+      wedge[at[v1]++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
+      wedge[at[v2]++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
     }
-    for (std::uint32_t i = 0; i < nc; ++i) slot[i].order = kNone;
   }
   std::vector<std::uint32_t> bucket[kTop + 1];
   for (auto& b : bucket) b.reserve(nc);
@@ -131,6 +148,8 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     plan->act.clear();
     plan->act.reserve(t.vertex.size());
   }
+  reserve_huge(q, n);
+  q.resize(n);
   for (std::uint32_t i = 0; i < nc; ++i) {
     std::uint32_t v = kNone;
     for (int d = kTop; d >= 0 && v == kNone; --d) {
@@ -223,12 +242,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     sv.rlen = static_cast<std::uint8_t>(last_rlen);
     sv.order = i;
     seq[i] = v;
-  }
-  reserve_huge(q, n);
-  q.resize(n);
-  for (std::uint32_t i = 0; i < nc; ++i) {
-    const Slot& s = slot[seq[i]];
-    q[i] = {s.q[0], s.q[1], s.q[2]};
+    q[i] = {sv.q[0], sv.q[1], sv.q[2]};  // in order now, not gathered from the records later
   }
   {
     // Renumber through a dense map (a quarter of the records' size, so it stays in cache).
@@ -327,6 +341,7 @@ std::vector<std::uint32_t> encode_positions_degree_again(CornerTable& table, con
   std::vector<std::uint32_t> new_id(nc);
   for (std::uint32_t i = 0; i < nc; ++i) new_id[plan.seq[i]] = i;
   for (std::uint32_t& v : table.vertex) v = new_id[v];
+  table.corners_of.clear();
   return plan.seq;
 }
 

@@ -27,6 +27,10 @@ void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, u
   TraversalOrder order;
   encode_connectivity(flat.table, flat.polygons, Traversal::kLeftFirst, conn_rans, conn_raw, table,
                       order);
+  // The connectivity coder counts each vertex's corners for the degree pass.
+  std::vector<std::uint32_t> counted(table.n_vertices, 0);
+  for (std::uint32_t v : table.vertex) ++counted[v];
+  EXPECT_EQ(table.corners_of, counted);
   // Random grid points (isolated vertices past the table's): residuals of every sign and
   // length, predictions clamped at both grid ends.
   std::mt19937 rng(seed);
@@ -62,6 +66,21 @@ void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, u
   rd.finish();
   EXPECT_EQ(dec_table.vertex, ref_table.vertex);
   EXPECT_EQ(decoded, ref_q);
+
+  // Without the counts (a table from elsewhere), or with counts that do not add up to the
+  // corners, the pass counts for itself and decodes the same.
+  for (const bool stale : {false, true}) {
+    CornerTable again = table;
+    again.corners_of.assign(stale ? table.n_vertices : 0, 1);
+    RansDecoder rd2(ref.rans, 0);
+    BitReader br2(ref.raw, 0);
+    std::vector<QPoint> decoded2;
+    EXPECT_EQ(decode_positions_degree(again, q.size(), bits, rd2, br2, decoded2), ref_seq);
+    rd2.finish();
+    EXPECT_EQ(again.vertex, ref_table.vertex);
+    EXPECT_EQ(decoded2, ref_q);
+    EXPECT_TRUE(again.corners_of.empty());  // renumbered: no longer valid
+  }
 }
 
 TEST(CompressFused, DegreeOrderPassesMatchTheReference) {
