@@ -219,10 +219,12 @@ SurfaceMesh spiky_torus(double height) {
 // The spikes' faces are small, so purely area-weighted plane quadrics made them cheap to
 // remove and 50% removed them (Hausdorff 2.1e-3 of the diagonal); with the per-face weight
 // floor they stay (9.0e-4), and with the queue ordered by cost / √weight rather than cost
-// fewer are flattened (6.8e-4).
+// fewer are flattened (6.8e-4). Those figures sampled only the area and the vertices; with
+// the edge midpoints in the maximum too, today's output measures 9.2e-4 (the other variants
+// can only measure higher than before).
 TEST(Simplify, SmallSpikesSurviveHalving) {
   const MeshDistance d = simplified_distance(spiky_torus(0.01), 0.5);
-  EXPECT_LT(d.relative_hausdorff(), 8.0e-4);
+  EXPECT_LT(d.relative_hausdorff(), 1.0e-3);
   EXPECT_LT(d.relative_rms(), 2.2e-4);
 }
 
@@ -240,11 +242,12 @@ TEST(Simplify, TallSpikesAreNotCutOffCheaply) {
 // square root of the merged face weight; when that weight was the quadric's trace, which
 // counts the boundary planes too, boundary vertices came up ten times early and the rim
 // lost its shape (Hausdorff 1.20e-3 of the diagonal, against 8.6e-4 when the queue ordered
-// by cost alone); with the face weight alone 8.0e-4.
+// by cost alone); with the face weight alone 8.0e-4. (Area samples and vertices only: with
+// the edge midpoints in the maximum too, today's output measures 1.03e-3.)
 TEST(Simplify, HalvedHemisphereKeepsItsRim) {
   const SurfaceMesh m = test::upper_hemisphere(48, 96, 0.004);
   const MeshDistance d = simplified_distance(m, 0.5);
-  EXPECT_LT(d.relative_hausdorff(), 1.0e-3);
+  EXPECT_LT(d.relative_hausdorff(), 1.1e-3);
   EXPECT_LT(d.relative_rms(), 1.7e-4);
 }
 
@@ -254,7 +257,9 @@ TEST(Simplify, HalvedHemisphereKeepsItsRim) {
 // survivors. The queue divides a collapse's cost by the root of the face weight merged into
 // its ends; along the rim that is whatever interior area happened to collapse there, and
 // rim vertices heavy with it took in ever more of the rim: Hausdorff 1.0e-3 of the
-// diagonal. With that weight capped by the rim's own (its boundary planes'), 3.0e-4.
+// diagonal. With that weight capped by the rim's own (its boundary planes'), 3.0e-4. (Both
+// figures from area samples and vertices only. With the edge midpoints, which catch the
+// middle of the longest chords, the capped weight measures 6.3e-4.)
 TEST(Simplify, DiskWithAHoleSpacesItsRimEvenly) {
   SurfaceMesh m;
   const int segments = 240;
@@ -276,7 +281,7 @@ TEST(Simplify, DiskWithAHoleSpacesItsRimEvenly) {
   test::expect_same_topology(m, r.mesh);
   EXPECT_EQ(r.faces_after, 97u);
   const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 20000});
-  EXPECT_LT(d.relative_hausdorff(), 4.0e-4);
+  EXPECT_LT(d.relative_hausdorff(), 7.0e-4);
 }
 
 TEST(Simplify, StopsAtMaxErrorAndSaysWhy) {

@@ -187,6 +187,64 @@ TEST(MeshDistance, HausdorffAgreesWithBruteForceOnVertices) {
   EXPECT_LE(d.rms, d.hausdorff);
 }
 
+// The same four corners, a non-planar quad, split along either diagonal: a roof (ridge from
+// (1,0,h) to (0,1,h)) over a valley (fold from (0,0,0) to (1,1,0)). Every vertex lies on the
+// other surface, so the whole gap is in the interior, largest at the two diagonals' midpoints:
+// (1/2, 1/2, 0) is h / sqrt(1 + 2h²) from the roof's planes (normals (∓h, ∓h, 1)), and the
+// ridge midpoint is as far from the valley by symmetry.
+struct RoofAndValley {
+  double h = 0.5;
+  TriangleBvh roof, valley;
+  double analytic() const { return h / std::sqrt(1 + 2 * h * h); }
+};
+
+RoofAndValley roof_and_valley() {
+  RoofAndValley r;
+  const std::vector<Point> p = {Point(0, 0, 0), Point(1, 0, r.h), Point(1, 1, 0), Point(0, 1, r.h)};
+  r.roof = TriangleBvh(p, {{0, 1, 3}, {1, 2, 3}});
+  r.valley = TriangleBvh(p, {{0, 1, 2}, {0, 2, 3}});
+  return r;
+}
+
+TEST(MeshDistance, HausdorffAtAnEdgeMidpointIsExactWithFewSamples) {
+  const RoofAndValley r = roof_and_valley();
+  for (std::size_t samples : {0, 16}) {
+    const MeshDistance d = mesh_distance(r.roof, r.valley, {.samples = samples});
+    EXPECT_NEAR(d.a_to_b.max, r.analytic(), 1e-12 * r.analytic()) << samples;
+    EXPECT_NEAR(d.b_to_a.max, r.analytic(), 1e-12 * r.analytic()) << samples;
+    EXPECT_NEAR(d.hausdorff, r.analytic(), 1e-12 * r.analytic()) << samples;
+  }
+  // Measured points: 4 vertices + 5 edges (the shared diagonal once) per side, no area samples.
+  EXPECT_EQ(mesh_distance(r.roof, r.valley, {.samples = 0}).a_to_b.samples, 9u);
+}
+
+TEST(MeshDistance, EdgeMidpointsDoNotEnterTheRms) {
+  // With no area samples there is nothing to average: the midpoints feed only the maximum.
+  const RoofAndValley r = roof_and_valley();
+  const MeshDistance none = mesh_distance(r.roof, r.valley, {.samples = 0});
+  EXPECT_EQ(none.rms, 0.0);
+  EXPECT_GT(none.hausdorff, 0.0);
+  // Dense area sampling never finds a point farther than the midpoint (the analytic maximum),
+  // and its RMS is well below the maximum, as an area average of a tent-shaped gap must be.
+  const MeshDistance dense = mesh_distance(r.roof, r.valley, {.samples = 200000});
+  EXPECT_NEAR(dense.hausdorff, r.analytic(), 1e-12 * r.analytic());
+  EXPECT_LT(dense.rms, 0.7 * r.analytic());
+  EXPECT_GT(dense.rms, 0.1 * r.analytic());
+}
+
+TEST(MeshDistance, QuadFaceDiagonalMidpointIsMeasured) {
+  // The same roof as a SurfaceMesh quad (fan-triangulated from its first corner, 0-1-2-3 ->
+  // diagonal 0-2, the valley) against the roof triangles: the fan diagonal's midpoint counts.
+  const RoofAndValley r = roof_and_valley();
+  SurfaceMesh quad;
+  std::vector<Vertex> v;
+  for (const Point& p : r.roof.positions()) v.push_back(quad.add_vertex(p));
+  quad.add_face({v[0], v[1], v[2], v[3]});
+  const TriangleBvh q(quad);
+  const MeshDistance d = mesh_distance(q, r.roof, {.samples = 0});
+  EXPECT_NEAR(d.hausdorff, r.analytic(), 1e-12 * r.analytic());
+}
+
 TEST(MeshDistance, EmptyMeshes) {
   const SurfaceMesh empty, m = test::grid(2);
   EXPECT_THROW(mesh_distance(empty, m), InvalidArgument);
