@@ -58,28 +58,24 @@ void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, u
   EXPECT_EQ(fused.rans, ref.rans);
   EXPECT_EQ(fused.raw, ref.raw);
 
-  CornerTable dec_table = table;
-  RansDecoder rd(ref.rans, 0);
-  BitReader br(ref.raw, 0);
-  std::vector<QPoint> decoded;
-  EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded), ref_seq);
-  rd.finish();
-  EXPECT_EQ(dec_table.vertex, ref_table.vertex);
-  EXPECT_EQ(decoded, ref_q);
-
-  // Without the counts (a table from elsewhere), or with counts that do not add up to the
-  // corners, the pass counts for itself and decodes the same.
+  // The decoder gives the reference's order and points, whatever corner counts the table
+  // carries: the connectivity coder's, none (a table from elsewhere), or counts that do not
+  // add up to the corners (the pass then counts for itself).
+  auto expect_decodes = [&](CornerTable dec_table) {
+    RansDecoder rd(ref.rans, 0);
+    BitReader br(ref.raw, 0);
+    std::vector<QPoint> decoded;
+    EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded), ref_seq);
+    rd.finish();
+    EXPECT_EQ(dec_table.vertex, ref_table.vertex);
+    EXPECT_EQ(decoded, ref_q);
+    EXPECT_TRUE(dec_table.corners_of.empty());  // renumbered: no longer valid
+  };
+  expect_decodes(table);
   for (const bool stale : {false, true}) {
     CornerTable again = table;
     again.corners_of.assign(stale ? table.n_vertices : 0, 1);
-    RansDecoder rd2(ref.rans, 0);
-    BitReader br2(ref.raw, 0);
-    std::vector<QPoint> decoded2;
-    EXPECT_EQ(decode_positions_degree(again, q.size(), bits, rd2, br2, decoded2), ref_seq);
-    rd2.finish();
-    EXPECT_EQ(again.vertex, ref_table.vertex);
-    EXPECT_EQ(decoded2, ref_q);
-    EXPECT_TRUE(again.corners_of.empty());  // renumbered: no longer valid
+    expect_decodes(std::move(again));
   }
 }
 

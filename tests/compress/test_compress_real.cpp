@@ -2,6 +2,7 @@
 // identical up to the encoder's permutation, positions within the grid bound, and exact
 // order in preserve_order mode. Large meshes run at one level to keep the runtime modest.
 
+#include "compress/round_trip.h"
 #include "support/data.h"
 
 #include <geom/compress/container/codec.h>
@@ -16,22 +17,8 @@
 namespace geom {
 namespace {
 
-std::vector<std::vector<std::uint32_t>> faces_of(const SurfaceMesh& m) {
-  std::vector<std::uint32_t> dense(m.vertices_size(), 0);
-  std::uint32_t n = 0;
-  for (Vertex v : m.vertices()) dense[v.idx()] = n++;
-  std::vector<std::vector<std::uint32_t>> out;
-  for (Face f : m.faces()) {
-    out.emplace_back();
-    for (Vertex v : m.vertices(f)) out.back().push_back(dense[v.idx()]);
-  }
-  return out;
-}
-
-std::vector<std::uint32_t> canonical(std::vector<std::uint32_t> f) {
-  std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-  return f;
-}
+using test::canonical;
+using test::faces_of;
 
 void check(const SurfaceMesh& in, const CompressOptions& opt, const std::string& name) {
   SCOPED_TRACE(name);
