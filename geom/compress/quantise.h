@@ -25,6 +25,10 @@ struct Quantiser {
   Point dequantise(const std::array<std::uint32_t, 3>& q) const {
     return origin + step * Eigen::Vector3d(q[0], q[1], q[2]);
   }
+  /// dequantise() rounded to floats, written to out[0..3) (the flat decoder's output).
+  void dequantise_into(const std::array<std::uint32_t, 3>& q, float* out) const {
+    for (int a = 0; a < 3; ++a) out[a] = static_cast<float>(origin[a] + step * q[a]);
+  }
 };
 
 /// A grid with 2^bits − 1 steps across the largest bounding-box extent.

@@ -393,10 +393,11 @@ std::vector<std::vector<Merge>> read_merges(const std::vector<Core>& cores,
 /// merge into a vertex that is itself merged follows it.
 std::vector<std::vector<std::uint32_t>> number_vertices(const std::vector<Core>& cores,
                                                         const std::vector<std::vector<Merge>>& merges,
+                                                        std::vector<std::uint32_t>& first,
                                                         std::uint32_t& total) {
   const std::size_t n = cores.size();
   std::vector<std::vector<std::uint32_t>> global(n);
-  std::vector<std::uint32_t> first(n + 1, 0);
+  first.assign(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k)
     first[k + 1] = first[k] + static_cast<std::uint32_t>(cores[k].q.size() - merges[k].size());
   total = first[n];
@@ -524,26 +525,68 @@ bool is_chunked(std::span<const std::uint8_t> bytes) {
          bytes[4] == kVersionChunked;
 }
 
-Core decode_chunked(std::span<const std::uint8_t> bytes) {
+namespace {
+
+/// Every chunk decoded (in parallel), checked against the others, and numbered globally.
+struct DecodedChunks {
+  std::vector<Core> cores;
+  std::vector<std::vector<std::uint32_t>> global;  // per chunk: its vertices' global numbers
+  std::vector<std::uint32_t> first;  // per chunk: its first own (unmerged) global number
+  std::uint32_t total = 0;
+  std::uint64_t where = 0;  // chunk 0's offset, for errors about the merged mesh
+};
+
+DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes) {
   const ChunkedLayout l = read_layout(bytes);
-  std::vector<Core> cores(l.chunks.size());
-  std::vector<std::vector<std::uint32_t>> ranked(cores.size());
-  std::vector<std::exception_ptr> failed(cores.size());
-  tbb::parallel_for(std::size_t{0}, cores.size(), [&](std::size_t k) {
+  DecodedChunks d;
+  d.cores.resize(l.chunks.size());
+  std::vector<std::vector<std::uint32_t>> ranked(d.cores.size());
+  std::vector<std::exception_ptr> failed(d.cores.size());
+  tbb::parallel_for(std::size_t{0}, d.cores.size(), [&](std::size_t k) {
     try {
-      cores[k] = decode_chunk(bytes, l.chunks[k], k);
-      ranked[k] = ranked_boundary(table_boundary(cores[k].table), cores[k].q);
+      d.cores[k] = decode_chunk(bytes, l.chunks[k], k);
+      ranked[k] = ranked_boundary(table_boundary(d.cores[k].table), d.cores[k].q);
     } catch (...) {
       failed[k] = std::current_exception();
     }
   });
   for (const std::exception_ptr& e : failed)  // the first chunk's error, whatever finished first
     if (e) std::rethrow_exception(e);
-  check_chunks_agree(cores, l, bytes);
-  const auto merges = read_merges(cores, ranked, l, bytes);
-  std::uint32_t total = 0;
-  const auto global = number_vertices(cores, merges, total);
-  return merge(cores, global, total, static_cast<std::uint64_t>(l.chunks[0].data() - bytes.data()));
+  check_chunks_agree(d.cores, l, bytes);
+  const auto merges = read_merges(d.cores, ranked, l, bytes);
+  d.global = number_vertices(d.cores, merges, d.first, d.total);
+  d.where = static_cast<std::uint64_t>(l.chunks[0].data() - bytes.data());
+  return d;
+}
+
+}  // namespace
+
+Core decode_chunked(std::span<const std::uint8_t> bytes) {
+  DecodedChunks d = decode_chunks(bytes);
+  return merge(d.cores, d.global, d.total, d.where);
+}
+
+FlatDecode decode_chunked_flat(std::span<const std::uint8_t> bytes) {
+  DecodedChunks d = decode_chunks(bytes);
+  const std::size_t n = d.cores.size();
+  std::vector<std::size_t> corner_at(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) corner_at[k + 1] = corner_at[k] + d.cores[k].table.vertex.size();
+  FlatDecode out;
+  out.positions.resize(3 * std::size_t{d.total});
+  out.triangles.resize(corner_at.back());
+  const Quantiser& grid = d.cores[0].h.quantiser;  // every chunk's (check_chunks_agree)
+  // No merged table: flat output needs no opposites, so the seams are never zipped. Each
+  // chunk writes its own corners and its own vertices (merged ones are an earlier chunk's,
+  // numbered below first[k], and written there), so no two tasks write one place.
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    const Core& c = d.cores[k];
+    const std::vector<std::uint32_t>& g = d.global[k];
+    std::uint32_t* tri = out.triangles.data() + corner_at[k];
+    for (const std::uint32_t v : c.table.vertex) *tri++ = g[v];
+    for (std::size_t v = 0; v < c.q.size(); ++v)
+      if (g[v] >= d.first[k]) grid.dequantise_into(c.q[v], out.positions.data() + 3 * std::size_t{g[v]});
+  });
+  return out;
 }
 
 }  // namespace geom::codec::detail

@@ -304,13 +304,12 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
 
 namespace codec {
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
-  Core core = detail::is_chunked(bytes) ? detail::decode_chunked(bytes) : decode_core(bytes);
+  if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes);
+  Core core = decode_core(bytes);
   FlatDecode out;
   out.positions.resize(3 * core.q.size());
-  const Quantiser& qz = core.h.quantiser;
   for (std::size_t i = 0; i < core.q.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      out.positions[3 * i + a] = static_cast<float>(qz.origin[a] + qz.step * core.q[i][a]);
+    core.h.quantiser.dequantise_into(core.q[i], out.positions.data() + 3 * i);
   out.triangles = std::move(core.table.vertex);
   out.normals.reserve(3 * core.normals.size());
   for (const QPoint& q : core.normals) {
