@@ -8,6 +8,7 @@
 #include <geom/core/soup.h>
 
 #include <Eigen/Geometry>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -49,27 +50,33 @@ std::vector<std::uint32_t> table_boundary(const CornerTable& t) {
 
 // ---- encoder ------------------------------------------------------------------------------
 
-/// Median splits along the longest axis of the face centroids' box, recursively, into
-/// `parts` groups of near-equal face count; each group sorted (input face order).
-void split_faces(std::span<std::uint32_t> faces, std::size_t parts,
-                 const std::vector<Point>& centroid, std::vector<std::vector<std::uint32_t>>& out) {
+/// A face and the point it is split by (its fan triangles' mean corner): kept together, so
+/// the median searches move contiguous records instead of chasing face numbers.
+struct Centroid {
+  Point at;
+  std::uint32_t face;
+};
+
+/// Median splits along the longest axis of the centroids' box, recursively, into `parts`
+/// groups of near-equal face count; chunk_of[face] receives its group, numbered from
+/// `first` in the order the splits leave them.
+void split_faces(std::span<Centroid> items, std::size_t parts, std::uint32_t first,
+                 std::vector<std::uint32_t>& chunk_of) {
   if (parts == 1) {
-    out.emplace_back(faces.begin(), faces.end());
-    std::sort(out.back().begin(), out.back().end());
+    for (const Centroid& c : items) chunk_of[c.face] = first;
     return;
   }
   Eigen::AlignedBox3d box;
-  for (std::uint32_t f : faces) box.extend(centroid[f]);
+  for (const Centroid& c : items) box.extend(c.at);
   int axis = 0;
   box.diagonal().maxCoeff(&axis);
-  const std::size_t left = parts / 2, cut = faces.size() * left / parts;
-  std::nth_element(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(cut), faces.end(),
-                   [&](std::uint32_t a, std::uint32_t b) {
-                     const double ca = centroid[a][axis], cb = centroid[b][axis];
-                     return ca != cb ? ca < cb : a < b;
+  const std::size_t left = parts / 2, cut = items.size() * left / parts;
+  std::nth_element(items.begin(), items.begin() + static_cast<std::ptrdiff_t>(cut), items.end(),
+                   [&](const Centroid& a, const Centroid& b) {
+                     return a.at[axis] != b.at[axis] ? a.at[axis] < b.at[axis] : a.face < b.face;
                    });
-  split_faces(faces.first(cut), left, centroid, out);
-  split_faces(faces.subspan(cut), parts - left, centroid, out);
+  split_faces(items.first(cut), left, first, chunk_of);
+  split_faces(items.subspan(cut), parts - left, first + static_cast<std::uint32_t>(left), chunk_of);
 }
 
 struct Chunk {
@@ -81,15 +88,27 @@ struct Chunk {
   std::vector<std::uint32_t> ranked;    // ranked_boundary, decoded numbering
 };
 
-/// A point for each face to be split by: the mean of its fan triangles' corners.
-std::vector<Point> face_centroids(const FlatMesh& flat, std::span<const std::uint32_t> first_tri) {
-  std::vector<Point> out(flat.n_faces);
-  for (std::uint32_t f = 0; f < flat.n_faces; ++f) {
-    Point sum = Point::Zero();
-    for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i)
-      sum += flat.positions[flat.table.vertex[i]];
-    out[f] = sum / (3.0 * (first_tri[f + 1] - first_tri[f]));
-  }
+/// Every face's centroid: the mean of its fan triangles' corners.
+std::vector<Centroid> face_centroids(const FlatMesh& flat, std::span<const std::uint32_t> first_tri) {
+  std::vector<Centroid> out(flat.n_faces);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(flat.n_faces), 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      for (std::uint32_t f = r.begin(); f != r.end(); ++f) {
+                        Point sum = Point::Zero();
+                        for (std::uint32_t i = 3 * first_tri[f]; i < 3 * first_tri[f + 1]; ++i)
+                          sum += flat.positions[flat.table.vertex[i]];
+                        out[f] = {sum / (3.0 * (first_tri[f + 1] - first_tri[f])), f};
+                      }
+                    });
+  return out;
+}
+
+/// The faces of each group, ascending (input face order).
+std::vector<std::vector<std::uint32_t>> group_faces(const std::vector<std::uint32_t>& chunk_of,
+                                                    std::size_t parts) {
+  std::vector<std::vector<std::uint32_t>> out(parts);
+  for (auto& g : out) g.reserve(chunk_of.size() / parts + 1);
+  for (std::uint32_t f = 0; f < chunk_of.size(); ++f) out[chunk_of[f]].push_back(f);
   return out;
 }
 
@@ -493,10 +512,12 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   std::vector<std::uint32_t> first_tri(flat.n_faces + 1, 0);  // a face's fan is consecutive
   for (std::uint32_t f : flat.triangle_face) ++first_tri[f + 1];
   for (std::size_t f = 0; f < flat.n_faces; ++f) first_tri[f + 1] += first_tri[f];
-  std::vector<std::uint32_t> order(flat.n_faces);
-  std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::vector<std::uint32_t>> groups;
-  split_faces(order, parts, face_centroids(flat, first_tri), groups);
+  std::vector<std::uint32_t> chunk_of(flat.n_faces);
+  {
+    std::vector<Centroid> centroids = face_centroids(flat, first_tri);
+    split_faces(centroids, parts, 0, chunk_of);
+  }
+  std::vector<std::vector<std::uint32_t>> groups = group_faces(chunk_of, parts);
   std::vector<Chunk> chunks(parts);
   std::vector<std::uint64_t> place(n_tri);
   for (std::uint32_t k = 0; k < parts; ++k) {
@@ -505,8 +526,12 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
     for (std::uint32_t f : chunks[k].faces)
       for (std::uint32_t t = first_tri[f]; t < first_tri[f + 1]; ++t) place[t] = (std::uint64_t{k} << 32) | n++;
   }
-  std::vector<std::uint32_t> local_of(flat.positions.size(), kNone);
-  for (std::uint32_t k = 0; k < parts; ++k) cut_chunk(chunks[k], k, flat, first_tri, place, local_of);
+  // One vertex map per thread (cut_chunk leaves it blank), not one per chunk.
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> local_of(
+      [&] { return std::vector<std::uint32_t>(flat.positions.size(), kNone); });
+  tbb::parallel_for(std::uint32_t{0}, static_cast<std::uint32_t>(parts), [&](std::uint32_t k) {
+    cut_chunk(chunks[k], k, flat, first_tri, place, local_of.local());
+  });
   add_isolated(chunks.back(), flat);
   if (!seams_distinct(chunks, flat.positions.size(), grid)) return std::nullopt;
   CompressOptions one = options;
