@@ -202,23 +202,26 @@ bool seams_distinct(const std::vector<Chunk>& chunks, std::size_t n_vertices,
 /// them; returns the global (decoded) numbering's input vertices.
 std::vector<std::uint32_t> code_merges(std::vector<Chunk>& chunks, std::size_t n_vertices,
                                        const Quantiser& grid, Streams& out) {
-  std::vector<std::uint32_t> first_chunk(n_vertices, kNone), first_local(n_vertices, kNone);
-  for (std::uint32_t k = 0; k < chunks.size(); ++k) {
+  tbb::parallel_for(std::size_t{0}, chunks.size(), [&](std::size_t k) {
     Chunk& c = chunks[k];
-    c.input_of.resize(c.result.vertex_permutation.size());
-    std::vector<QPoint> q(c.input_of.size());
-    for (std::size_t l = 0; l < c.input_of.size(); ++l) {
-      c.input_of[l] = c.vertices[c.result.vertex_permutation[l]];
-      q[l] = grid.quantise(c.flat.positions[c.result.vertex_permutation[l]]);
-      if (first_chunk[c.input_of[l]] == kNone)
-        first_chunk[c.input_of[l]] = k, first_local[c.input_of[l]] = static_cast<std::uint32_t>(l);
+    const std::vector<std::uint32_t>& perm = c.result.vertex_permutation;
+    c.input_of.resize(perm.size());
+    std::vector<QPoint> q(perm.size());
+    std::vector<std::uint32_t> decoded_of(perm.size());
+    for (std::uint32_t l = 0; l < perm.size(); ++l) {
+      c.input_of[l] = c.vertices[perm[l]];
+      q[l] = grid.quantise(c.flat.positions[perm[l]]);
+      decoded_of[perm[l]] = l;
     }
-    std::vector<std::uint32_t> decoded_of(c.input_of.size());
-    for (std::uint32_t l = 0; l < c.input_of.size(); ++l) decoded_of[c.result.vertex_permutation[l]] = l;
     std::vector<std::uint32_t> boundary;
     for (std::uint32_t v : table_boundary(c.flat.table)) boundary.push_back(decoded_of[v]);
     c.ranked = ranked_boundary(std::move(boundary), q);
-  }
+  });
+  std::vector<std::uint32_t> first_chunk(n_vertices, kNone), first_local(n_vertices, kNone);
+  for (std::uint32_t k = 0; k < chunks.size(); ++k)
+    for (std::uint32_t l = 0; l < chunks[k].input_of.size(); ++l)
+      if (first_chunk[chunks[k].input_of[l]] == kNone)
+        first_chunk[chunks[k].input_of[l]] = k, first_local[chunks[k].input_of[l]] = l;
   std::vector<std::vector<std::uint32_t>> rank(chunks.size());
   for (std::size_t k = 0; k < chunks.size(); ++k) {
     rank[k].assign(chunks[k].input_of.size(), kNone);
