@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <exception>
@@ -600,8 +601,9 @@ FlatDecode decode_chunked_flat(std::span<const std::uint8_t> bytes) {
   std::vector<std::size_t> corner_at(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k) corner_at[k + 1] = corner_at[k] + d.cores[k].table.vertex.size();
   FlatDecode out;
-  out.positions.resize(3 * std::size_t{d.total});
-  out.triangles.resize(corner_at.back());
+  // Clearing the fresh pages is most of the cost of these two: one core each.
+  tbb::parallel_invoke([&] { out.positions.resize(3 * std::size_t{d.total}); },
+                       [&] { out.triangles.resize(corner_at.back()); });
   const Quantiser& grid = d.cores[0].h.quantiser;  // every chunk's (check_chunks_agree)
   // No merged table: flat output needs no opposites, so the seams are never zipped. Each
   // chunk writes its own corners and its own vertices (merged ones are an earlier chunk's,
