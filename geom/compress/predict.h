@@ -128,12 +128,15 @@ inline std::uint32_t blended_mean(std::int64_t s, std::int64_t e, unsigned count
 /// With kMultiParallelogramSelect and anchor_isolated, the isolated vertices are predicted
 /// from anchors (FORMAT.md) and the result also lists them (n entries, identity past the
 /// connected ones). The traversal's per-corner and per-vertex records live in `scratch` (a
-/// block of its own when null), dead on return.
+/// block of its own when null), dead on return. open_corners, when given, receives the
+/// corners without an opposite in ascending order (the pass reads every opposite anyway;
+/// the chunk merge needs the boundary).
 /// Throws: DecodeError also for an anchor beyond the connected vertices.
 std::vector<std::uint32_t> decode_positions_degree(
     CornerTable& table, std::size_t n, unsigned bits, RansDecoder& rans, BitReader& raw,
     std::vector<QPoint>& q, Predictor predictor = Predictor::kMultiParallelogramDegree,
-    Blend blend = {}, bool anchor_isolated = false, Scratch* scratch = nullptr);
+    Blend blend = {}, bool anchor_isolated = false, Scratch* scratch = nullptr,
+    std::vector<std::uint32_t>* open_corners = nullptr);
 
 /// The scratch bytes decode_positions_degree uses for a table of n_corners corners and
 /// n_vertices connected vertices.

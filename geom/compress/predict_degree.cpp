@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -27,18 +28,17 @@ struct Wedge {
   std::uint32_t a, b, c;
 };
 
-/// Everything the degree pass asks about a vertex (table numbering) in one record: its grid
-/// point, its place in the traversal (kNone until taken), where its wedges start, its
-/// degree and residual length. A vertex's record is in cache when it is raised, so its
-/// wedges can be prefetched before the traversal takes it.
+/// What the degree pass asks about a vertex (table numbering) at every wedge end: its place
+/// in the traversal (kNone until taken), its degree and residual length. Its grid point is
+/// q[order] and its wedges' extent is kept apart: the records are read at random, and 8
+/// bytes instead of 24 keep three times as many in cache, while q in traversal order is
+/// mostly read near its recent end.
 struct Slot {
-  std::uint32_t q[3];
   std::uint32_t order;
-  std::uint32_t first;  // its wedges are wedge[first, next record's first)
   std::uint8_t degree, rlen;
 };
 
-/// The degree pass's scratch block: a wedge per corner, then a record per vertex (+1).
+/// The degree pass's scratch block: a wedge per corner, then a record per vertex.
 std::size_t slots_at(std::size_t n_corners) {
   return (n_corners * sizeof(Wedge) + alignof(Slot) - 1) / alignof(Slot) * alignof(Slot);
 }
@@ -84,7 +84,8 @@ struct BlendProbe {
 template <bool kSelect, class Coder>
 std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& reader,
                                           std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
-                                          bool anchored, DegreePlan* plan, Scratch& scratch) {
+                                          bool anchored, DegreePlan* plan, Scratch& scratch,
+                                          std::vector<std::uint32_t>* open_corners) {
   constexpr bool kWriter = requires { reader.truth(0u); };
   if constexpr (!kWriter) plan = nullptr;
   constexpr bool select = kSelect;
@@ -93,13 +94,15 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   const std::size_t n_corners = t.vertex.size();
   scratch.reserve(degree_scratch_bytes(n_corners, nc));
   Wedge* const wedge = scratch.array<Wedge>(0, n_corners);  // every one written below
-  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc + 1);
+  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc);
+  // Vertex v's wedges are wedge[end[v], end[v + 1]).
+  std::vector<std::uint32_t> end = std::move(t.corners_of);
+  t.corners_of.clear();
   {
     // Each vertex's corner count (counted by the connectivity decoder while it grew the
     // table, else here) becomes its wedge list's start and, in place, its fill cursor: the
     // scatter below then bumps a dense array that stays in cache, not the wide records.
-    std::vector<std::uint32_t> cursor = std::move(t.corners_of);
-    t.corners_of.clear();
+    std::vector<std::uint32_t>& cursor = end;
     std::uint32_t run = 0;
     // Counts that do not add up to the corners (a table edited without clearing them) are
     // recounted. The check is a cheap guard, not a proof: per-vertex counts are trusted.
@@ -110,22 +113,33 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
       }
       run = 0;
       for (std::uint32_t v = 0; v < nc; ++v) {
-        slot[v] = Slot{{0, 0, 0}, kNone, run, 0, 0};
+        slot[v] = Slot{kNone, 0, 0};
         run += std::exchange(cursor[v], run);
       }
       if (run == n_corners || recount) break;
     }
-    slot[nc] = Slot{{0, 0, 0}, kNone, run, 0, 0};  // never taken: boundary wedges' c
+    // Shifted one place, so that after the scatter (which moves each start to its
+    // vertex's end) end[v] and end[v + 1] bound v's wedges.
+    cursor.insert(cursor.begin(), 0);
     const std::uint32_t* vx = t.vertex.data();
     const std::uint32_t* op = t.opposite.data();
-    std::uint32_t* const at = cursor.data();
-    for (std::size_t c = 0; c < n_corners; c += 3) {
-      const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
-      const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
-      wedge[at[v0]++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
-      wedge[at[v1]++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
-      wedge[at[v2]++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
-    }
+    std::uint32_t* const at = cursor.data() + 1;
+    auto scatter = [&](auto list_open) {  // compiled with and without the listing
+      for (std::size_t c = 0; c < n_corners; c += 3) {
+        const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
+        const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
+        wedge[at[v0]++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
+        wedge[at[v1]++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
+        wedge[at[v2]++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
+        if constexpr (decltype(list_open)::value)
+          for (std::uint32_t k = 0; k < 3; ++k)
+            if (op[c + k] == kNone) open_corners->push_back(static_cast<std::uint32_t>(c + k));
+      }
+    };
+    if (open_corners)
+      scatter(std::true_type{});
+    else
+      scatter(std::false_type{});
   }
   std::vector<std::uint32_t> bucket[kTop + 1];
   for (auto& b : bucket) b.reserve(nc);
@@ -135,9 +149,10 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     Slot& sx = slot[x];
     if (sx.degree < kTop) ++sx.degree;
     bucket[sx.degree].push_back(x);
-    // x's wedges (six 12-byte records on average) usually span two cache lines.
-    __builtin_prefetch(wedge + sx.first);
-    __builtin_prefetch(wedge + std::min<std::size_t>(sx.first + 5, n_corners));
+    // x's wedges (six 12-byte records on average, at least one: x ends a wedge) usually
+    // span two cache lines.
+    __builtin_prefetch(wedge + end[x]);
+    __builtin_prefetch(wedge + end[x + 1] - 1);
     // The writer reads x's true point when it takes x, usually soon.
     if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
   };
@@ -169,8 +184,8 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     }
     // Predict from the vertices already taken (exactly decode_positions' rule on the
     // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
-    const Wedge* w_begin = wedge + slot[v].first;
-    const Wedge* w_end = wedge + slot[v + 1].first;
+    const Wedge* w_begin = wedge + end[v];
+    const Wedge* w_end = wedge + end[v + 1];
     std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
     std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
     unsigned count = 0, act_sum = 0, act_n = 0;
@@ -192,14 +207,15 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
         continue;
       }
       if (!da || we->c == kNone) continue;
-      const Slot& sc = slot[we->c];
-      if (sc.order == kNone) continue;
+      const std::uint32_t oc = slot[we->c].order;
+      if (oc == kNone) continue;
+      const QPoint &qa = q[sa.order], &qb = q[sb.order], &qc = q[oc];
       for (int x = 0; x < 3; ++x) {
-        const std::int64_t ab = std::int64_t{sa.q[x]} + std::int64_t{sb.q[x]};
-        sum[x] += ab - std::int64_t{sc.q[x]};
+        const std::int64_t ab = std::int64_t{qa[x]} + std::int64_t{qb[x]};
+        sum[x] += ab - std::int64_t{qc[x]};
         ends[x] += ab;  // predictor 4's centroid: the parallelograms' shared edges
         if (select && count < kMaxSelect) {
-          cand[count][x] = ab - std::int64_t{sc.q[x]};
+          cand[count][x] = ab - std::int64_t{qc[x]};
           cand_ends[count][x] = ab;
         }
       }
@@ -207,7 +223,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     }
     const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
     QPoint p{0, 0, 0};
-    std::uint32_t neighbour = kNone;
+    std::uint32_t neighbour = kNone, neighbour_order = 0;
     if (select && count >= 2) {
       p = predict_select(reader, v, cand, cand_ends, count, activity, blend);
     } else if (count > 0) {
@@ -222,13 +238,12 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     } else {
       // Without a parallelogram (rare): the neighbour taken last, found by a second scan so
       // that the common case's loop carries no comparison of places.
-      std::uint32_t neighbour_order = 0;
       for (const Wedge* we = w_begin; we != w_end; ++we)
         for (const std::uint32_t x : {we->a, we->b})
           if (slot[x].order != kNone && (neighbour == kNone || slot[x].order > neighbour_order))
             neighbour = x, neighbour_order = slot[x].order;
-      if (neighbour == kNone && i > 0) neighbour = seq[i - 1];
-      if (neighbour != kNone) p = {slot[neighbour].q[0], slot[neighbour].q[1], slot[neighbour].q[2]};
+      if (neighbour == kNone && i > 0) neighbour = seq[i - 1], neighbour_order = i - 1;
+      if (neighbour != kNone) p = q[neighbour_order];
     }
     if (plan) {
       DegreePlan::Step& st = plan->steps.emplace_back();
@@ -238,14 +253,13 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
       st.act_begin = static_cast<std::uint32_t>(plan->act.size() - (act_n));
     }
     Slot& sv = slot[v];
-    last_rlen = code(reader, v, p, count, activity, sv.q);
+    last_rlen = code(reader, v, p, count, activity, q[i].data());  // in traversal order
     sv.rlen = static_cast<std::uint8_t>(last_rlen);
     sv.order = i;
     seq[i] = v;
-    q[i] = {sv.q[0], sv.q[1], sv.q[2]};  // in order now, not gathered from the records later
   }
   {
-    // Renumber through a dense map (a quarter of the records' size, so it stays in cache).
+    // Renumber through a dense map (half the records' size, so more of it stays in cache).
     std::uint32_t* const new_id = scratch.array<std::uint32_t>(0, nc);  // over the dead wedges
     for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
     for (std::uint32_t& v : t.vertex) v = new_id[v];
@@ -258,28 +272,33 @@ template <class Coder>
 std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& coder,
                                        std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
                                        bool select, bool anchored, DegreePlan* plan,
-                                       Scratch& scratch) {
-  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan, scratch)
-                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan, scratch);
+                                       Scratch& scratch,
+                                       std::vector<std::uint32_t>* open_corners = nullptr) {
+  return select ? degree_pass_as<true>(t, n, coder, q, blend, probe, anchored, plan, scratch,
+                                       open_corners)
+                : degree_pass_as<false>(t, n, coder, q, blend, probe, anchored, plan, scratch,
+                                        open_corners);
 }
 
 }  // namespace
 
 std::size_t degree_scratch_bytes(std::size_t n_corners, std::size_t n_vertices) {
-  return slots_at(n_corners) + (n_vertices + 1) * sizeof(Slot);
+  return slots_at(n_corners) + n_vertices * sizeof(Slot);
 }
 
 std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
                                                    RansDecoder& rans, BitReader& raw,
                                                    std::vector<QPoint>& q, Predictor predictor,
                                                    Blend blend, bool anchor_isolated,
-                                                   Scratch* scratch) {
+                                                   Scratch* scratch,
+                                                   std::vector<std::uint32_t>* open_corners) {
   const bool select = predictor == Predictor::kMultiParallelogramSelect;
   ResidualReader reader(bits, rans, raw,
                         select || predictor == Predictor::kMultiParallelogramBlend);
   Scratch own;
+  if (open_corners) open_corners->clear();
   return degree_pass(table, n, reader, q, blend, nullptr, select, select && anchor_isolated,
-                     nullptr, scratch ? *scratch : own);
+                     nullptr, scratch ? *scratch : own, open_corners);
 }
 
 std::vector<std::uint32_t> encode_positions_degree(CornerTable& table, std::span<const QPoint> q,

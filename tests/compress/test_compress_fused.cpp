@@ -60,15 +60,24 @@ void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, u
 
   // The decoder gives the reference's order and points, whatever corner counts the table
   // carries: the connectivity coder's, none (a table from elsewhere), or counts that do not
-  // add up to the corners (the pass then counts for itself).
+  // add up to the corners (the pass then counts for itself). It also lists the corners
+  // without an opposite (the chunk merge's boundary), replacing what the list held.
+  std::vector<std::uint32_t> open_scanned;
+  for (std::uint32_t c = 0; c < table.opposite.size(); ++c)
+    if (table.opposite[c] == kNone) open_scanned.push_back(c);
   auto expect_decodes = [&](CornerTable dec_table) {
     RansDecoder rd(ref.rans, 0);
     BitReader br(ref.raw, 0);
     std::vector<QPoint> decoded;
-    EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded), ref_seq);
+    std::vector<std::uint32_t> open = {7, 7};
+    EXPECT_EQ(decode_positions_degree(dec_table, q.size(), bits, rd, br, decoded,
+                                      Predictor::kMultiParallelogramDegree, {}, false, nullptr,
+                                      &open),
+              ref_seq);
     rd.finish();
     EXPECT_EQ(dec_table.vertex, ref_table.vertex);
     EXPECT_EQ(decoded, ref_q);
+    EXPECT_EQ(open, open_scanned);
     EXPECT_TRUE(dec_table.corners_of.empty());  // renumbered: no longer valid
   };
   expect_decodes(table);
@@ -82,7 +91,7 @@ void expect_fused_matches_reference(const test::Arrays& arrays, unsigned bits, u
 TEST(CompressFused, DegreeOrderPassesMatchTheReference) {
   expect_fused_matches_reference(test::torus(30, 20).shuffled(1), 11, 1);
   expect_fused_matches_reference(test::holey_slab(3, true).shuffled(2), 14, 2);
-  expect_fused_matches_reference(test::grid(9, 7, true), 3, 3);  // quads: fanned with diagonals
+  expect_fused_matches_reference(test::grid(9, 7, true), 3, 3);  // quads, fanned; a boundary
   expect_fused_matches_reference(test::mixed_polygons(), 20, 4);
 }
 

@@ -39,10 +39,19 @@ std::vector<std::uint32_t> ranked_boundary(std::vector<std::uint32_t> boundary,
   return boundary;
 }
 
-std::vector<std::uint32_t> table_boundary(const CornerTable& t) {
+/// The vertices on the table's boundary, ascending. open_corners: the corners without an
+/// opposite, when known (then the opposites, long out of cache after a chunk's decode, are
+/// not scanned again).
+std::vector<std::uint32_t> table_boundary(const CornerTable& t,
+                                          const std::vector<std::uint32_t>* open_corners = nullptr) {
   std::vector<std::uint8_t> on(t.n_vertices, 0);
-  for (std::uint32_t c = 0; c < t.vertex.size(); ++c)
-    if (t.opposite[c] == kNone) on[t.vertex[next_corner(c)]] = on[t.vertex[prev_corner(c)]] = 1;
+  auto mark = [&](std::uint32_t c) { on[t.vertex[next_corner(c)]] = on[t.vertex[prev_corner(c)]] = 1; };
+  if (open_corners) {
+    for (std::uint32_t c : *open_corners) mark(c);
+  } else {
+    for (std::uint32_t c = 0; c < t.vertex.size(); ++c)
+      if (t.opposite[c] == kNone) mark(c);
+  }
   std::vector<std::uint32_t> out;
   for (std::uint32_t v = 0; v < t.n_vertices; ++v)
     if (on[v]) out.push_back(v);
@@ -312,7 +321,7 @@ Core decode_chunk(std::span<const std::uint8_t> bytes, std::span<const std::uint
                   std::size_t k) {
   const auto base = static_cast<std::uint64_t>(chunk.data() - bytes.data());
   try {
-    Core core = decode_core(chunk);
+    Core core = decode_core(chunk, /*open_corners=*/true);
     const std::uint8_t extras = kFlagPreserveOrder | kFlagNormals | kFlagTexcoords | kFlagExtension;
     if (core.h.flags & extras)
       throw DecodeError(5, "a chunk may not carry attributes or an order section");
@@ -481,21 +490,32 @@ Core merge(std::vector<Core>& cores, const std::vector<std::vector<std::uint32_t
   out.q.resize(total);
   std::vector<std::vector<std::uint32_t>> open_corners(cores.size());
   tbb::parallel_for(std::size_t{0}, cores.size(), [&](std::size_t k) {
+    const auto b = static_cast<std::uint32_t>(corner_at[k]);
+    // The open corners the chunk's decode found (else a scan of its opposites, long out
+    // of cache by now), in the merged numbering.
+    const bool known = cores[k].open_corners_known;
+    if (known) {
+      open_corners[k] = std::move(cores[k].open_corners);
+      for (std::uint32_t& c : open_corners[k]) c += b;
+    }
     if (k == 0) {
-      for (std::uint32_t i = 0; i < corner_at[1]; ++i)
+      for (std::uint32_t i = 0; !known && i < corner_at[1]; ++i)
         if (t.opposite[i] == kNone) open_corners[0].push_back(i);
       return;
     }
     const CornerTable& c = cores[k].table;
-    const std::size_t b = corner_at[k];
-    for (std::size_t i = 0; i < c.vertex.size(); ++i) {
-      const auto at = static_cast<std::uint32_t>(b + i);
-      t.vertex[at] = global[k][c.vertex[i]];
-      t.opposite[at] = c.opposite[i] == kNone ? kNone : static_cast<std::uint32_t>(b + c.opposite[i]);
-      if (c.opposite[i] == kNone) open_corners[k].push_back(at);
+    // Raw pointers: through the vectors, every push_back below might alias them, and the
+    // compiler reloads their data pointers for every corner.
+    const std::uint32_t *cv = c.vertex.data(), *co = c.opposite.data(), *g = global[k].data();
+    std::uint32_t *tv = t.vertex.data() + b, *to = t.opposite.data() + b;
+    for (std::uint32_t i = 0; i < c.vertex.size(); ++i) {
+      tv[i] = g[cv[i]];
+      to[i] = co[i] == kNone ? kNone : b + co[i];
+      if (!known && co[i] == kNone) open_corners[k].push_back(b + i);
     }
     if (polygons && !c.diagonal.empty()) std::copy(c.diagonal.begin(), c.diagonal.end(), t.diagonal.begin() + b);
-    for (std::size_t l = 0; l < cores[k].q.size(); ++l) out.q[global[k][l]] = cores[k].q[l];
+    QPoint* const q = out.q.data();
+    for (std::size_t l = 0; l < cores[k].q.size(); ++l) q[g[l]] = cores[k].q[l];
     cores[k].table = {};
   });
   zip_seams(t, open_corners, where);
@@ -574,7 +594,9 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes) {
   tbb::parallel_for(std::size_t{0}, d.cores.size(), [&](std::size_t k) {
     try {
       d.cores[k] = decode_chunk(bytes, l.chunks[k], k);
-      ranked[k] = ranked_boundary(table_boundary(d.cores[k].table), d.cores[k].q);
+      const Core& c = d.cores[k];
+      ranked[k] = ranked_boundary(
+          table_boundary(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q);
     } catch (...) {
       failed[k] = std::current_exception();
     }

@@ -54,7 +54,7 @@ void read_attribute_header(ByteReader& r, Header& h) {
 
 }  // namespace
 
-Core codec::detail::decode_core(std::span<const std::uint8_t> bytes) {
+Core codec::detail::decode_core(std::span<const std::uint8_t> bytes, bool open_corners) {
   ByteReader r(bytes);
   Core core;
   Header& h = core.h;
@@ -167,16 +167,19 @@ Core codec::detail::decode_core(std::span<const std::uint8_t> bytes) {
   if (h.n_vertices > 0) {
     RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
-    if (grows)
+    if (grows) {
       decode_positions_growth(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
                               rd, br, core.q, h.predictor, h.blend, h.anchored, h.log2_deadline,
                               &scratch);
-    else if (degree)
+    } else if (degree) {
       decode_positions_degree(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
-                              rd, br, core.q, h.predictor, h.blend, h.anchored, &scratch);
-    else
+                              rd, br, core.q, h.predictor, h.blend, h.anchored, &scratch,
+                              open_corners ? &core.open_corners : nullptr);
+      core.open_corners_known = open_corners;
+    } else {
       decode_positions(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
                        h.predictor, rd, br, core.q);
+    }
     rd.finish();
   } else if (!geom_rans.empty() || !geom_raw.empty()) {
     throw DecodeError(geom_at, "geometry data for an empty mesh");

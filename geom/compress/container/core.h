@@ -34,10 +34,15 @@ struct Core {
   std::span<const std::uint8_t> order_rans, order_raw;
   std::uint64_t order_offset = 0, connectivity_offset = 0;
   std::size_t extension_at = 0;  // the extension block runs from here to the end
+  /// The table's corners without an opposite (ascending), when asked for and the position
+  /// pass found them on its way (degree-order predictors), for the chunk merge's boundary.
+  std::vector<std::uint32_t> open_corners;
+  bool open_corners_known = false;
 };
 
-/// Decode a version 1 or 2 stream up to its positions and vertex attributes.
+/// Decode a version 1 or 2 stream up to its positions and vertex attributes; with
+/// open_corners, list them in the Core where that costs no pass of its own.
 /// Throws: DecodeError naming the byte offset (in `bytes`).
-Core decode_core(std::span<const std::uint8_t> bytes);
+Core decode_core(std::span<const std::uint8_t> bytes, bool open_corners = false);
 
 }  // namespace geom::codec::detail
