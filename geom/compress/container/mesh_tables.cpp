@@ -88,22 +88,6 @@ FlatMesh flatten(const SurfaceMesh& mesh) {
   std::vector<Vertex> cv;
   std::vector<Halfedge> ch;
   for (Face f : mesh.faces()) {
-    const Halfedge h0 = mesh.halfedge(f), h1 = mesh.next(h0), h2 = mesh.next(h1);
-    if (mesh.next(h2) == h0) {
-      // A triangle (most faces): its corners straight from its halfedges, as below with
-      // apex 0; corner j faces the halfedge two after its own.
-      const auto face_id = static_cast<std::uint32_t>(flat.n_faces++);
-      const std::uint32_t v0 = dense[mesh.to_vertex(h0).idx()];
-      flat.face_first_vertex.push_back(v0);
-      t.vertex.push_back(v0);
-      t.vertex.push_back(dense[mesh.to_vertex(h1).idx()]);
-      t.vertex.push_back(dense[mesh.to_vertex(h2).idx()]);
-      flat.triangle_face.push_back(face_id);
-      corner_halfedge.push_back(h2.idx());
-      corner_halfedge.push_back(h0.idx());
-      corner_halfedge.push_back(h1.idx());
-      continue;
-    }
     cv.clear();
     ch.clear();
     // ch[j] runs from corner j to corner j+1.
