@@ -98,6 +98,11 @@ class CollapseEngine {
   /// vertices_size()) receives for each input vertex the output vertex it was merged into.
   SurfaceMesh extract(std::vector<Vertex>* out_origin,
                       std::vector<Vertex>* out_survivor = nullptr) const;
+  /// With options.refit_iterations != 0 (and not recording): a third of the area of each
+  /// input vertex's triangles as the engine split them (model units², by input vertex index,
+  /// sized input_vertices; 0 for a vertex no face uses), the refit's vertex sample weights.
+  /// Empty otherwise.
+  std::vector<double> input_vertex_areas(std::size_t input_vertices) const;
 
  private:
   // What the main loop reads of a vertex and of its neighbours, together in two cache lines
@@ -386,6 +391,9 @@ class CollapseEngine {
   // Per dense vertex, the vertex it was collapsed into (kNone while alive); kept only for the
   // refit, which projects the input through it instead of searching the whole output.
   std::vector<std::uint32_t> merged_into_;
+  // Per dense vertex, a third of its triangles' area (model units²); kept only for the refit,
+  // whose vertex samples it weighs: the setup's sweep has every triangle's area at hand.
+  std::vector<double> vertex_area_;
 
   std::vector<CollapseRecord> records_;
   std::vector<std::uint32_t> changed_;

@@ -196,7 +196,10 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
     for (std::size_t i = begin; i < end; ++i) vd_[i].p = pos[i] = (model_[i] - center_) / scale_;
   });
 
-  if (options.refit_iterations != 0 && !record_) merged_into_.assign(n, kNone);
+  if (options.refit_iterations != 0 && !record_) {
+    merged_into_.assign(n, kNone);
+    vertex_area_.resize(n);
+  }
   stamp_.assign(n, 0);
   for (Vertex v : options.locked)
     if (mesh.is_valid(v) && dense[v.idx()] != kNone) vd_[dense[v.idx()]].locked = 1;
@@ -248,6 +251,7 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   for_blocks(n, 2048, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v) {
       VertexData& d = vd_[v];
+      double area2 = 0;  // twice the area of v's triangles, normalised units
       for (std::uint32_t i = d.ref_begin; i < d.ref_begin + d.ref_size; ++i) {
         const Plane& pl = planes[refs_[i]];
         if (!(pl.len > 0) || !std::isfinite(pl.len)) continue;
@@ -255,7 +259,9 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
         // Each vertex's quadric is stored relative to its own position (see place()).
         d.q += Quadric::plane(pl.unit, pl.unit.dot(pos[v] - pos[triangles_[refs_[i]][0]]), weight);
         d.weight += weight;
+        area2 += pl.len;
       }
+      if (!vertex_area_.empty()) vertex_area_[v] = area2 / 6 * scale_ * scale_;
     }
   });
 
@@ -361,6 +367,16 @@ SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
   SurfaceMesh out = mesh_from_triangles(positions, kept);
   if (attributes_) write_attributes(out);
   return out;
+}
+
+std::vector<double> CollapseEngine::input_vertex_areas(std::size_t input_vertices) const {
+  std::vector<double> area;
+  if (vertex_area_.empty()) return area;
+  area.assign(input_vertices, 0.0);
+  for_blocks(vertex_area_.size(), 16384, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) area[vertex_of_[v].idx()] = vertex_area_[v];
+  });
+  return area;
 }
 
 std::uint32_t CollapseEngine::higher_edges(std::uint32_t a, Candidate* out) const {

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -14,7 +15,9 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace geom {
@@ -29,37 +32,115 @@ struct Sample {
   Vertex seed{};    ///< an original vertex of its triangle: where its search starts
 };
 
+// Area (in each face's fan triangulation from its first corner) of the triangles of
+// face(h) that have h's origin as a corner; degenerate ones count nothing.
+double corner_area(const SurfaceMesh& mesh, Halfedge h) {
+  const Halfedge h0 = mesh.halfedge(mesh.face(h));
+  const Vertex v = mesh.from_vertex(h);
+  const Point& a = mesh.position(mesh.to_vertex(h0));
+  const bool at_a = mesh.to_vertex(h0) == v;
+  double sum = 0;
+  for (Halfedge k = mesh.next(h0); mesh.next(k) != h0; k = mesh.next(k)) {
+    const Vertex b = mesh.to_vertex(k), c = mesh.to_vertex(mesh.next(k));
+    if (!at_a && b != v && c != v) continue;
+    const double area = 0.5 * (mesh.position(b) - a).cross(mesh.position(c) - a).norm();
+    if (area > 0) sum += area;
+  }
+  return sum;
+}
+
+// A third of the area of each vertex's triangles, gathered around each vertex so that the
+// vertices are independent (on all cores).
+std::vector<double> vertex_areas(const SurfaceMesh& mesh) {
+  std::vector<double> area(mesh.vertices_size(), 0.0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.vertices_size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        const Vertex v(static_cast<std::uint32_t>(i));
+                        if (mesh.is_deleted(v) || mesh.is_isolated(v)) continue;
+                        double sum = 0;
+                        for (Halfedge h : mesh.outgoing(v))
+                          if (!mesh.is_boundary(h)) sum += corner_area(mesh, h);
+                        area[i] = sum / 3;
+                      }
+                    });
+  return area;
+}
+
+// Fill out with count(b, e) items per block [b, e) of [0, n), each block writing its own
+// range through fill(b, e, first): blocks count, then fill, on all cores, in serial order.
+template <class T, class Count, class Fill>
+void fill_by_blocks(std::vector<T>& out, std::size_t n, std::size_t block, Count count, Fill fill) {
+  const std::size_t blocks = (n + block - 1) / block;
+  std::vector<std::size_t> start(blocks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    start[b + 1] = count(b * block, std::min(n, (b + 1) * block));
+  });
+  for (std::size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
+  const std::size_t base = out.size();
+  out.resize(base + start[blocks]);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    fill(b * block, std::min(n, (b + 1) * block), out.data() + base + start[b]);
+  });
+}
+
 // The original surface as weighted points: every vertex carries a third of its triangles'
 // area, and optional interior points share each triangle's area once more. Polygons are
-// fan-triangulated, as everywhere else.
-std::vector<Sample> sample_original(const SurfaceMesh& mesh, int per_triangle) {
+// fan-triangulated, as everywhere else. Interior points come first, in face order, then the
+// vertices in index order.
+std::vector<Sample> sample_original(const SurfaceMesh& mesh, int per_triangle,
+                                    std::span<const double> given_area) {
   std::vector<Sample> out;
-  // Exact for triangle meshes: regrowing 1.5M samples cost a fifth of the sampling.
-  out.reserve(mesh.n_faces() * per_triangle + mesh.n_vertices());
-  std::vector<double> vertex_area(mesh.vertices_size(), 0.0);
-  std::vector<Vertex> corners;
-  for (Face f : mesh.faces()) {
-    corners.clear();
-    for (Vertex v : mesh.vertices(f)) corners.push_back(v);
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
-      const Point& a = mesh.position(corners[0]);
-      const Point& b = mesh.position(corners[k]);
-      const Point& c = mesh.position(corners[k + 1]);
-      const double area = 0.5 * (b - a).cross(c - a).norm();
-      if (!(area > 0)) continue;
-      for (Vertex v : {corners[0], corners[k], corners[k + 1]}) vertex_area[v.idx()] += area / 3;
-      // A fixed R2 (Roberts) sequence folded into the triangle: evenly spread, deterministic.
-      for (int s = 0; s < per_triangle; ++s) {
-        double u = std::fmod(0.5 + 0.7548776662 * (s + 1), 1.0);
-        double t = std::fmod(0.5 + 0.5698402910 * (s + 1), 1.0);
-        if (u + t > 1) u = 1 - u, t = 1 - t;
-        out.push_back({a + u * (b - a) + t * (c - a), area / per_triangle, Vertex(), corners[0]});
+  if (per_triangle > 0) {
+    // Calls f(a, b, c, area) for each non-degenerate fan triangle of the faces [begin, end).
+    const auto triangles = [&](std::size_t begin, std::size_t end, auto&& f) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const Face face(static_cast<std::uint32_t>(i));
+        if (mesh.is_deleted(face)) continue;
+        const Halfedge h0 = mesh.halfedge(face);
+        const Vertex a = mesh.to_vertex(h0);
+        for (Halfedge k = mesh.next(h0); mesh.next(k) != h0; k = mesh.next(k)) {
+          const Point &pa = mesh.position(a), &pb = mesh.position(mesh.to_vertex(k)),
+                      &pc = mesh.position(mesh.to_vertex(mesh.next(k)));
+          const double area = 0.5 * (pb - pa).cross(pc - pa).norm();
+          if (area > 0) f(a, pa, pb, pc, area);
+        }
       }
-    }
+    };
+    fill_by_blocks(
+        out, mesh.faces_size(), 4096,
+        [&](std::size_t begin, std::size_t end) {
+          std::size_t n = 0;
+          triangles(begin, end, [&](Vertex, const Point&, const Point&, const Point&, double) { n += per_triangle; });
+          return n;
+        },
+        [&](std::size_t begin, std::size_t end, Sample* o) {
+          triangles(begin, end, [&](Vertex a, const Point& pa, const Point& pb, const Point& pc, double area) {
+            // A fixed R2 (Roberts) sequence folded into the triangle: evenly spread, deterministic.
+            for (int s = 0; s < per_triangle; ++s) {
+              double u = std::fmod(0.5 + 0.7548776662 * (s + 1), 1.0);
+              double t = std::fmod(0.5 + 0.5698402910 * (s + 1), 1.0);
+              if (u + t > 1) u = 1 - u, t = 1 - t;
+              *o++ = {pa + u * (pb - pa) + t * (pc - pa), area / per_triangle, Vertex(), a};
+            }
+          });
+        });
   }
-  for (Vertex v : mesh.vertices())
-    if (vertex_area[v.idx()] > 0)
-      out.push_back({mesh.position(v), vertex_area[v.idx()], v, v});
+  std::vector<double> own_area;
+  if (given_area.empty()) own_area = vertex_areas(mesh), given_area = own_area;
+  const std::span<const double> area = given_area;
+  fill_by_blocks(
+      out, mesh.vertices_size(), 16384,
+      [&](std::size_t begin, std::size_t end) {
+        return static_cast<std::size_t>(
+            std::count_if(area.begin() + begin, area.begin() + end, [](double a) { return a > 0; }));
+      },
+      [&](std::size_t begin, std::size_t end, Sample* o) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const Vertex v(static_cast<std::uint32_t>(i));
+          if (area[i] > 0) *o++ = {mesh.position(v), area[i], v, v};
+        }
+      });
   return out;
 }
 
@@ -104,7 +185,10 @@ struct Scratch {
     const Vector3* n;
   };
   std::vector<Residual> residual;  // of v's pulls (copied: the guard reads them per try)
-  std::vector<const Sample*> vertex_samples;  // v's pulls that are original vertices
+  // v's pulls that are original vertices: where they are, and which (apart: probe() scans
+  // the positions once per probe).
+  std::vector<Point> vertex_points;
+  std::vector<Vertex> vertex_ids;
   struct Probe {
     Point other;  // the neighbour whose edge midpoint it is (unused for v itself)
     Vertex near;  // original vertex whose fan measures it
@@ -149,24 +233,28 @@ class Refitter {
 
   void iterate(const std::vector<Sample>& samples) {
     assign(samples);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block_start_.size() - 1, 1),
-                      [&](const tbb::blocked_range<std::size_t>& blocks) {
-                        Scratch scratch;
-                        for (std::size_t b = blocks.begin(); b < blocks.end(); ++b)
-                          for (std::uint32_t i = block_start_[b]; i < block_start_[b + 1]; ++i)
-                            move(Vertex(inner_[i]), samples, scratch);
-                      });
+    // Even blocks, then odd ones: blocks of one parity share no edge (plan_blocks()).
+    for (std::size_t parity = 0; parity < 2; ++parity)
+      tbb::parallel_for(std::size_t{0}, (block_start_.size() - parity) / 2, [&](std::size_t k) {
+        Scratch scratch;
+        const std::size_t b = 2 * k + parity;
+        for (std::uint32_t i = block_start_[b]; i < block_start_[b + 1]; ++i)
+          move(Vertex(inner_[i]), samples, scratch);
+      });
     Scratch scratch;
     for (std::uint32_t v : seam_) move(Vertex(v), samples, scratch);
   }
 
  private:
-  // Blocks of consecutive vertices move in parallel, each in index order; a vertex with a free
-  // neighbour in another block waits for a serial pass after them. The result does not depend
-  // on the schedule, and each block keeps the serial order's locality (colour classes, which
-  // sweep the whole mesh once per colour, made the moves 65% slower on one core). It pays when
-  // the input's vertex order is spatially coherent, as the simplifier's output keeps it (torus
-  // 1M at 50%: 10% seam); amo.ply's is not (96% seam), and its moves run serially.
+  // Blocks of consecutive vertices move in parallel, each in index order: first the
+  // even-numbered blocks, then the odd ones, so that neighbouring blocks never move at once.
+  // A vertex with a free neighbour in a block further away (the seam) waits for a serial pass
+  // after them. The result does not depend on the schedule, and each block keeps the serial
+  // order's locality (colour classes, which sweep the whole mesh once per colour, made the
+  // moves 65% slower on one core). It pays when the input's vertex order is spatially
+  // coherent, as the simplifier's output keeps it (torus 1M at 10%: 387 seam vertices of 50k,
+  // against 5008 when a neighbour in any other block counted); amo.ply's is not (most of it
+  // is seam), and its moves run serially.
   void plan_blocks() {
     // About eight blocks, 512 to 8192 vertices each: larger ones leave fewer seam vertices.
     const std::size_t nv = mesh_.vertices_size();
@@ -174,14 +262,17 @@ class Refitter {
     block_start_.assign((nv >> kBlockBits) + 2, 0);
     for (Vertex v : mesh_.vertices()) {
       if (!free_[v.idx()]) continue;
+      const std::uint32_t b = v.idx() >> kBlockBits;
       bool seam = false;
-      for (Vertex u : mesh_.vertices(v))
-        seam = seam || (free_[u.idx()] && (u.idx() >> kBlockBits) != (v.idx() >> kBlockBits));
+      for (Vertex u : mesh_.vertices(v)) {
+        const std::uint32_t c = u.idx() >> kBlockBits;
+        seam = seam || (free_[u.idx()] && c + 1 != b && c != b && c != b + 1);
+      }
       if (seam) {
         seam_.push_back(v.idx());
       } else {
         inner_.push_back(v.idx());
-        ++block_start_[(v.idx() >> kBlockBits) + 1];
+        ++block_start_[b + 1];
       }
     }
     for (std::size_t b = 0; b + 1 < block_start_.size(); ++b)
@@ -193,12 +284,15 @@ class Refitter {
     const std::size_t nv = mesh_.vertices_size();
     // Normals at the current positions; a degenerate triangle's (zero) drops its samples.
     normal_.resize(tri_.size());
-    for (std::size_t t = 0; t < tri_.size(); ++t) {
-      const auto [a, b, c] = corners(t);
-      const Vector3 n = (b - a).cross(c - a);
-      const double len = n.norm();
-      normal_[t] = len > 0 ? Vector3(n / len) : Vector3::Zero();
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tri_.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t t = range.begin(); t < range.end(); ++t) {
+                          const auto [a, b, c] = corners(t);
+                          const Vector3 n = (b - a).cross(c - a);
+                          const double len = n.norm();
+                          normal_[t] = len > 0 ? Vector3(n / len) : Vector3::Zero();
+                        }
+                      });
     sample_tri_.assign(samples.size(), kNoTriangle);
     sample_beta_.resize(samples.size());
     // Walks are independent of each other.
@@ -206,9 +300,10 @@ class Refitter {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, samples.size(), 4096),
         [&](const tbb::blocked_range<std::size_t>& range) {
+          PreparedFan fan;
           for (std::size_t i = range.begin(); i < range.end(); ++i) {
             Hit hit;
-            if (!walk(samples[i], hit)) {
+            if (!in_fan(samples[i], fan, hit) && !walk(samples[i], hit)) {
               sample_tri_[i] = kAskTree;
             } else if (!normal_[hit.t].isZero()) {
               sample_tri_[i] = hit.t;
@@ -253,6 +348,104 @@ class Refitter {
   std::array<Point, 3> corners(std::size_t t) const {
     return {mesh_.position(Vertex(tri_[t][0])), mesh_.position(Vertex(tri_[t][1])),
             mesh_.position(Vertex(tri_[t][2]))};
+  }
+
+  // One vertex's triangles, ready for many closest-point queries: the projection onto a
+  // triangle's plane, in barycentric coordinates, costs a few dot products once each
+  // triangle's edges and their Gram matrix are at hand.
+  struct FanTriangle {
+    Point a;
+    Vector3 e0, e1, n;
+    Vector3 to_v, to_w;  // (p − a)·to_v, (p − a)·to_w: p's barycentric coordinates at b, c
+    bool thin;  // too thin for the projection formulas: always measured in full
+    std::array<double, 3> height2;  // squared height over the side opposite each corner
+    std::uint32_t t;
+  };
+  struct PreparedFan {
+    std::uint32_t vertex = kNoTriangle;
+    std::uint32_t last = 0;  // the triangle of the latest sample placed in it
+    std::vector<FanTriangle> triangles;
+    std::vector<std::pair<double, std::uint32_t>> outside;  // scratch of in_fan()
+  };
+
+  void prepare(std::uint32_t v, PreparedFan& fan) const {
+    fan.vertex = v;
+    fan.last = 0;
+    fan.triangles.clear();
+    for (std::uint32_t k = fan_start_[v]; k < fan_start_[v + 1]; ++k) {
+      const auto [a, b, c] = corners(fan_[k]);
+      const Vector3 e0 = b - a, e1 = c - a;
+      const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+      const double den = d00 * d11 - d01 * d01;  // (twice the area)²
+      // The Gram system of the projection, solved once for the triangle.
+      const Vector3 to_v = (d11 * e0 - d01 * e1) / den, to_w = (d00 * e1 - d01 * e0) / den;
+      const bool thin = !(den > 1e-12 * d00 * d11) || normal_[fan_[k]].isZero();
+      fan.triangles.push_back({a, e0, e1, normal_[fan_[k]], to_v, to_w, thin,
+                               {den / (c - b).squaredNorm(), den / d11, den / d00}, fan_[k]});
+    }
+  }
+
+  // The walk's first step, for the common case: the sample's closest triangle is one of its
+  // start vertex's, at a point with weight on that vertex. Consecutive samples often start
+  // at the same vertex (the input's order is spatially coherent), so its fan is prepared
+  // once for them. A triangle is measured in full only when a lower bound of its distance
+  // does not rule it out: the distance to its plane, and beyond a side, the distance to
+  // that side's line within the plane (a sample projects into one or two of its fan's
+  // triangles, whose plane distance is then exact). False: the walk must go on from there
+  // (or has nowhere to start).
+  bool in_fan(const Sample& s, PreparedFan& fan, Hit& hit) const {
+    if (!s.seed.is_valid() || s.seed.idx() >= survivor_.size()) return false;
+    const Vertex start = survivor_[s.seed.idx()];
+    if (!start.is_valid() || start.idx() + 1 >= fan_start_.size()) return false;
+    if (fan.vertex != start.idx()) prepare(start.idx(), fan);
+    const std::uint32_t m = static_cast<std::uint32_t>(fan.triangles.size());
+    if (m == 0) return false;
+    // The previous sample's triangle first, as a guess at the nearest: its distance then
+    // rules most of the others out by their planes. It is only a guess (every triangle is
+    // still measured or ruled out; stopping at it was wrong across creases, see walk()), and
+    // ties go to the earlier triangle in the fan, as in walk(), so the answer does not depend
+    // on which sample came before.
+    double best = std::numeric_limits<double>::infinity();
+    std::uint32_t best_i = m;
+    const auto take = [&](double d2, std::uint32_t i, const Point& q) {
+      if (d2 < best || (d2 == best && i < best_i)) best = d2, best_i = i, hit.q = q;
+    };
+    fan.outside.clear();
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const std::uint32_t i = j == 0 ? fan.last : j <= fan.last ? j - 1 : j;
+      const FanTriangle& f = fan.triangles[i];
+      const Vector3 d = s.p - f.a;
+      const double h = f.n.dot(d);
+      // The plane's distance never exceeds the triangle's (margin: see walk()).
+      if (h * h > best * (1 + 1e-6)) continue;
+      const double v = d.dot(f.to_v), w = d.dot(f.to_w);
+      const std::array<double, 3> lambda{1 - v - w, v, w};
+      if (f.thin) {
+        fan.outside.push_back({h * h, i});
+      } else if (lambda[0] >= 0 && v >= 0 && w >= 0) {
+        const Point q = s.p - h * f.n;  // projects inside: the plane's point is the closest
+        take((q - s.p).squaredNorm(), i, q);
+      } else {
+        double off2 = 0;
+        for (int k = 0; k < 3; ++k)
+          if (lambda[k] < 0) off2 = std::max(off2, lambda[k] * lambda[k] * f.height2[k]);
+        fan.outside.push_back({h * h + off2, i});
+      }
+    }
+    for (const auto& [bound2, i] : fan.outside) {
+      if (bound2 > best * (1 + 1e-6)) continue;
+      const FanTriangle& f = fan.triangles[i];
+      const Point q = closest_point_on_triangle(s.p, f.a, f.a + f.e0, f.a + f.e1);
+      take((q - s.p).squaredNorm(), i, q);
+    }
+    if (best_i == m) return false;
+    fan.last = best_i;
+    hit.t = fan.triangles[best_i].t;
+    const auto [a, b, c] = corners(hit.t);
+    hit.beta = barycentric(hit.q, a, b, c);
+    for (int k = 0; k < 3; ++k)
+      if (tri_[hit.t][k] == start.idx()) return hit.beta[k] > 1e-9;
+    return false;
   }
 
   // The sample's closest triangle, searched from the fan of the output vertex its seed was
@@ -309,14 +502,28 @@ class Refitter {
     }
   }
 
+  static constexpr std::size_t kPrefetch = 8;  // pulls
+
   // Gauss–Seidel step for v: minimise Σ w (n·(Σ β_j x_j − p))² + λ|x_v − x|² over x_v.
   void move(Vertex v, const std::vector<Sample>& samples, Scratch& w) {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    double a00 = 0, a10 = 0, a11 = 0, a20 = 0, a21 = 0, a22 = 0;
     Vector3 g = Vector3::Zero();
     w.residual.clear();
-    w.vertex_samples.clear();
+    w.vertex_points.clear();
+    w.vertex_ids.clear();
     double weight = 0;
     for (std::uint32_t k = start_[v.idx()]; k < start_[v.idx() + 1]; ++k) {
+      // A vertex's pulls name samples all over the arrays: fetching a few pulls ahead (into
+      // the next vertex's, which comes next in a block) overlaps their cache misses.
+      if (k + 2 * kPrefetch < pulls_.size()) {
+        const std::uint32_t ahead = pulls_[k + 2 * kPrefetch] >> 2;
+        __builtin_prefetch(&samples[ahead]);
+        __builtin_prefetch(&sample_beta_[ahead]);
+        __builtin_prefetch(&sample_tri_[ahead]);
+        // Half way there, the sample's triangle is known: fetch its normal.
+        const std::uint32_t t = sample_tri_[pulls_[k + kPrefetch] >> 2];
+        if (t != kNoTriangle) __builtin_prefetch(&normal_[t]);
+      }
       const Pull pull = this->pull(k);
       const Sample& s = samples[pull.sample];
       const auto& t = tri_[sample_tri_[pull.sample]];
@@ -325,12 +532,19 @@ class Refitter {
       for (int j = 0; j < 3; ++j) on += b[j] * mesh_.position(Vertex(t[j]));
       const double r = pull.n.dot(on - s.p);
       w.residual.push_back({r, pull.beta, &pull.n});
-      if (s.vertex.is_valid()) w.vertex_samples.push_back(&s);
+      if (s.vertex.is_valid()) w.vertex_points.push_back(s.p), w.vertex_ids.push_back(s.vertex);
       const double wb = s.w * pull.beta;
-      A += wb * pull.beta * pull.n * pull.n.transpose();
+      // Six sums in registers (the lower triangle, mirrored below: LDLT reads no more) rather
+      // than a 3×3 on the stack, whose read-modify-write chain through memory held the loop
+      // up; each term is the one Eigen's outer product formed, so A is the same.
+      const Vector3 cn = (wb * pull.beta) * pull.n;
+      a00 += cn[0] * pull.n[0], a10 += cn[1] * pull.n[0], a11 += cn[1] * pull.n[1];
+      a20 += cn[2] * pull.n[0], a21 += cn[2] * pull.n[1], a22 += cn[2] * pull.n[2];
       g += wb * r * pull.n;
       weight += wb * pull.beta;
     }
+    Eigen::Matrix3d A;
+    A << a00, a10, a20, a10, a11, a21, a20, a21, a22;
     if (!(weight > 0)) return;
     A.diagonal().array() += options_.regularization * weight;
     Vector3 delta = -A.ldlt().solve(g);
@@ -400,12 +614,15 @@ class Refitter {
     w.probes.push_back({x, Vertex(), kInf, -1, 0, 0, 0});
     for (Vertex u : mesh_.vertices(v))
       w.probes.push_back({mesh_.position(u), Vertex(), kInf, -1, 0, 0, 0});
-    for (const Sample* sample : w.vertex_samples) {
-      const Sample& s = *sample;
-      for (std::size_t i = 0; i < w.probes.size(); ++i) {
-        const double d2 = (s.p - midpoint(w, i, x)).squaredNorm();
-        if (d2 < w.probes[i].near_d2) w.probes[i].near_d2 = d2, w.probes[i].near = s.vertex;
+    for (std::size_t i = 0; i < w.probes.size(); ++i) {
+      const Point m = midpoint(w, i, x);
+      double best = kInf;
+      std::size_t at = 0;
+      for (std::size_t j = 0; j < w.vertex_points.size(); ++j) {
+        const double d2 = (w.vertex_points[j] - m).squaredNorm();
+        if (d2 < best) best = d2, at = j;
       }
+      if (best < kInf) w.probes[i].near_d2 = best, w.probes[i].near = w.vertex_ids[at];
     }
   }
 
@@ -435,8 +652,12 @@ class Refitter {
       bound = std::max(bound, std::abs(r.r));
       after = std::max(after, std::abs(r.r + r.beta * r.n->dot(delta)));
     }
+    // v's distance before the move is at most that to its nearest original vertex: beyond
+    // that, its fan need not be measured to refuse the move.
     const bool has_v = w.probes[0].near.is_valid();
-    if (after > bound && (!has_v || after > before(w, 0))) return false;
+    if (after > bound &&
+        (!has_v || after > std::sqrt(w.probes[0].near_d2) || after > before(w, 0)))
+      return false;
     const Point moved = mesh_.position(v) + delta;
     for (std::size_t p = 0; p < w.probes.size(); ++p) {
       if (!w.probes[p].near.is_valid()) continue;
@@ -480,7 +701,7 @@ class Refitter {
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> pulls_;  // sample << 2 | corner
   std::vector<std::uint32_t> block_start_, inner_;  // free vertices inside each block (CSR)
-  std::vector<std::uint32_t> seam_;  // free vertices with a free neighbour in another block
+  std::vector<std::uint32_t> seam_;  // free vertices with a free neighbour two blocks away or more
   std::vector<Vector3> normal_;             // of tri_, at the start of the round
   std::vector<std::uint32_t> sample_tri_;   // each sample's triangle (kNoTriangle: none)
   std::vector<std::array<double, 3>> sample_beta_;
@@ -491,6 +712,13 @@ class Refitter {
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       const RefitOptions& options, std::span<const Vertex> fixed,
                       std::span<const Vertex> survivor) {
+  detail::refit_to_surface(simplified, original, options, fixed, survivor, {});
+}
+
+void detail::refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
+                              const RefitOptions& options, std::span<const Vertex> fixed,
+                              std::span<const Vertex> survivor,
+                              std::span<const double> vertex_area) {
   if (options.iterations <= 0 || simplified.n_faces() == 0) return;
   // Interior samples pay only where the output is dense: with fewer than two original vertices
   // per simplified triangle the vertices alone leave the fit loose (fandisk at 50%: RMS 1.011×
@@ -499,13 +727,19 @@ void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
   int per_triangle = options.samples_per_triangle;
   if (per_triangle < 0)
     per_triangle = refit_needs_surface_samples(original.n_vertices(), simplified.n_faces());
-  const std::vector<Sample> samples = sample_original(original, per_triangle);
+  if (vertex_area.size() != original.vertices_size()) vertex_area = {};
+  // The samples and the output's triangle lists do not depend on each other: the lists'
+  // serial build runs beside the samples' parallel one.
+  std::vector<Sample> samples;
+  std::optional<Refitter> refitter;
+  tbb::parallel_invoke(
+      [&] { samples = sample_original(original, per_triangle, vertex_area); },
+      [&] { refitter.emplace(simplified, original, options, fixed, survivor); });
   // A pull packs its sample's index with the corner in 32 bits.
   if (samples.size() >= (std::size_t{1} << 30))
     throw InvalidArgument("refit: " + std::to_string(samples.size()) +
                           " surface samples; at most 2^30 (use fewer samples_per_triangle)");
-  Refitter refitter(simplified, original, options, fixed, survivor);
-  for (int it = 0; it < options.iterations; ++it) refitter.iterate(samples);
+  for (int it = 0; it < options.iterations; ++it) refitter->iterate(samples);
 }
 
 }  // namespace geom

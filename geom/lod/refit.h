@@ -55,4 +55,15 @@ void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       const RefitOptions& options = {}, std::span<const Vertex> fixed = {},
                       std::span<const Vertex> survivor = {});
 
+namespace detail {
+/// refit_to_surface() with the weights of the original's vertex samples given (simplify()
+/// has them from its setup, which sums every triangle's area anyway; the refit's own sum
+/// walks the whole input again): vertex_area[i] is a third of the area of input vertex i's
+/// triangles (polygons split as the caller split them), 0 for none. Empty, or not sized to
+/// original.vertices_size(): computed from `original`.
+void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
+                      const RefitOptions& options, std::span<const Vertex> fixed,
+                      std::span<const Vertex> survivor, std::span<const double> vertex_area);
+}  // namespace detail
+
 }  // namespace geom

@@ -65,7 +65,8 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
     const RefitOptions refit{.iterations = rounds,
                              .min_triangle_quality = options.min_triangle_quality};
-    refit_to_surface(result.mesh, mesh, refit, fixed, survivor);
+    detail::refit_to_surface(result.mesh, mesh, refit, fixed, survivor,
+                             engine.input_vertex_areas(mesh.vertices_size()));
   }
   return result;
 }

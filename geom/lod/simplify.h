@@ -72,8 +72,8 @@ struct SimplifyOptions {
   /// estimate are refused. 0: off. -1 (the default): one round where it is cheap, that is
   /// when the input has at least two vertices per output triangle (a closed mesh kept at
   /// about a quarter or less), so that the input's vertices alone are its samples: on a
-  /// 1M-triangle input it then costs 0.25–0.4× the collapses' CPU time (on all cores). Off
-  /// above that, where it needs surface samples too and costs 1.8× at 50%, and off with
+  /// 1M-triangle input it then costs 0.15–0.25× the collapses' CPU time (on all cores). Off
+  /// above that, where it needs surface samples too and costs 1.2× at 50%, and off with
   /// attributes, which it would not move. ProgressiveMesh (and so lod_chain) takes -1 as 0
   /// and refuses a positive count: its levels must replay the collapses exactly.
   int refit_iterations = -1;

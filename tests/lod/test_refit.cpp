@@ -1,4 +1,5 @@
 // Refitting simplified vertices to the input surface (SimplifyOptions::refit_iterations).
+#include <geom/lod/collapse.h>
 #include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
@@ -142,6 +143,57 @@ TEST(Refit, SameResultOnOneThreadAsOnAll) {
   std::size_t differ = 0;
   for (Vertex v : one.mesh.vertices()) differ += one.mesh.position(v) != all.mesh.position(v);
   EXPECT_EQ(differ, 0u);
+}
+
+TEST(Refit, SameResultOnOneThreadAsOnAllFromVertexSamples) {
+  // The automatic round at 10% (input vertices as the only samples): the walks start from
+  // a prepared fan, whichever sample came before, and the blocks move even ones first, then
+  // odd ones. 4.5k output vertices make nine blocks of 512.
+  const SurfaceMesh m = test::torus(300, 150, 1.0, 0.35, 0.01);
+  SimplifyResult one;
+  {
+    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one = simplify(m, {.ratio = 0.1});
+  }
+  const SimplifyResult all = simplify(m, {.ratio = 0.1});
+  ASSERT_EQ(all.refit_rounds, 1);
+  ASSERT_EQ(one.mesh.n_vertices(), all.mesh.n_vertices());
+  ASSERT_GT(one.mesh.n_vertices(), 4096u);
+  std::size_t differ = 0;
+  for (Vertex v : one.mesh.vertices()) differ += one.mesh.position(v) != all.mesh.position(v);
+  EXPECT_EQ(differ, 0u);
+}
+
+TEST(Refit, VertexSampleWeightsComeFromTheSetup) {
+  // simplify() hands the refit each input vertex's third of its triangles' area from the
+  // engine's setup, which has every triangle's area at hand; the refit's own sampling
+  // (refit_to_surface without them) sums the same areas around each vertex.
+  SurfaceMesh m = test::torus(40, 20, 1.0, 0.35, 0.02);
+  const Vertex lone = m.add_vertex(Point(5, 5, 5));  // in no face: no sample
+  std::vector<double> expected(m.vertices_size(), 0.0);
+  double total = 0;
+  for (Face f : m.faces()) {
+    std::vector<Vertex> c;
+    for (Vertex v : m.vertices(f)) c.push_back(v);
+    const double area =
+        0.5 * (m.position(c[1]) - m.position(c[0])).cross(m.position(c[2]) - m.position(c[0])).norm();
+    for (Vertex v : c) expected[v.idx()] += area / 3;
+    total += area;
+  }
+  const detail::CollapseEngine engine(m, {.refit_iterations = -1}, false);
+  const std::vector<double> area = engine.input_vertex_areas(m.vertices_size());
+  ASSERT_EQ(area.size(), m.vertices_size());
+  double sum = 0;
+  for (Vertex v : m.vertices()) {
+    EXPECT_NEAR(area[v.idx()], expected[v.idx()], 1e-12 * total) << v.idx();
+    sum += area[v.idx()];
+  }
+  EXPECT_EQ(area[lone.idx()], 0.0);
+  EXPECT_NEAR(sum, total, 1e-12 * total);
+  // Without a refit to come, the setup keeps none.
+  EXPECT_TRUE(detail::CollapseEngine(m, {.refit_iterations = 0}, false)
+                  .input_vertex_areas(m.vertices_size())
+                  .empty());
 }
 
 TEST(Refit, RejectsNegativeIterations) {
