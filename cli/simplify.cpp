@@ -95,8 +95,8 @@ void add_simplify_command(CLI::App& app) {
   cmd->add_option("--refit", args->options.refit_iterations,
                   "Afterwards refit the vertices to the input surface for N rounds: lower error "
                   "(RMS 5-25% on scans). Default -1 = automatic: one round when keeping about a "
-                  "quarter or less (cheap there: 0.25-0.4x the collapses' time), else none; "
-                  "above a quarter it costs 1.8x; 0 = off")
+                  "quarter or less (cheap there: 0.15-0.25x the collapses' time), else none; "
+                  "above a quarter it costs 1.2x; 0 = off")
       ->check(CLI::Range(-1, 1000));
   cmd->add_flag("--measure", args->measure, "Report the sampled Hausdorff and RMS distance");
   add_common_options(cmd, args->common, kOutput | kJson | kQuiet | kForce | kFormat);

@@ -56,8 +56,8 @@ def simplify(mesh, **options):
     ``locked`` (vertex indices that never move), ``min_triangle_quality`` (default 0.02),
     ``refit`` (alias of ``refit_iterations``: rounds of refitting the output's vertices to
     the input surface afterwards, for lower error; default -1, automatic: one round when
-    keeping about a quarter of the faces or less, where it costs 0.25-0.4x the collapses'
-    time, none above that, where it would cost 1.8x; 0 = off).
+    keeping about a quarter of the faces or less, where it costs 0.15-0.25x the collapses'
+    time, none above that, where it would cost 1.2x; 0 = off).
 
     ``attributes=("normals", "uv", "color")`` makes the collapses attribute-aware (Hoppe's
     quadric): the mesh's normals, texture coordinates and colours (per vertex, or per corner
