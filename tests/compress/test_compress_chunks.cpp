@@ -160,9 +160,12 @@ TEST(Chunks, DamagedStreamsThrow) {
   b = good;
   b[at[1] + 9] ^= 0x40;  // chunk 1's grid origin
   EXPECT_NE(error_of(b).find("grid other than chunk 0's"), std::string::npos) << error_of(b);
+  // The flat decoder reads chunks by a path of its own (no merged table): the same damage
+  // must throw there too.
   for (std::size_t n = 0; n < good.size(); n += 1 + n / 8) {
     const std::vector<std::uint8_t> cut(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n));
     EXPECT_THROW(decompress(cut), DecodeError) << "truncated at " << n;
+    EXPECT_THROW(codec::decompress_flat(cut), DecodeError) << "truncated at " << n;
   }
   std::mt19937 rng(5);
   for (int i = 0; i < 300; ++i) {
@@ -171,6 +174,12 @@ TEST(Chunks, DamagedStreamsThrow) {
     try {
       const DecompressResult d = decompress(b);
       EXPECT_EQ(d.mesh.n_faces(), m.n_faces());  // a flipped raw bit may only move a point
+    } catch (const DecodeError&) {
+    }
+    try {
+      const codec::FlatDecode f = codec::decompress_flat(b);
+      EXPECT_EQ(f.triangles.size(), 3 * m.n_faces());
+      EXPECT_EQ(f.positions.size(), 3 * m.n_vertices());
     } catch (const DecodeError&) {
     }
   }

@@ -11,6 +11,11 @@
 #include <span>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // The flat decoder (its own path for chunked streams) must hold up as well.
+  try {
+    geom::codec::decompress_flat(std::span<const std::uint8_t>(data, size));
+  } catch (const geom::DecodeError&) {
+  }
   geom::DecompressResult d;
   try {
     d = geom::decompress(std::span<const std::uint8_t>(data, size));
