@@ -127,41 +127,44 @@ TEST(Refit, BoundaryAndLockedVerticesStay) {
   EXPECT_LT(b.relative_rms(), 0.9 * a.relative_rms());  // measured 1.79e-3 -> 1.50e-3
 }
 
+/// simplify() on one thread and on all; the caller checks the sizes, then the positions.
+struct OneAndAll {
+  SimplifyResult one, all;
+  std::size_t positions_differ() const {
+    std::size_t differ = 0;
+    for (Vertex v : one.mesh.vertices()) differ += one.mesh.position(v) != all.mesh.position(v);
+    return differ;
+  }
+};
+
+OneAndAll simplify_one_and_all(const SurfaceMesh& m, const SimplifyOptions& options) {
+  OneAndAll r;
+  {
+    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    r.one = simplify(m, options);
+  }
+  r.all = simplify(m, options);
+  return r;
+}
+
 TEST(Refit, SameResultOnOneThreadAsOnAll) {
   // Blocks of vertices move in parallel, the vertices between blocks after them: the result
   // may not depend on the schedule. 2.5k output vertices make four blocks of 512.
-  const SurfaceMesh m = test::torus(100, 50);
-  const SimplifyOptions options{.ratio = 0.5, .refit_iterations = 1};
-  SimplifyResult one;
-  {
-    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
-    one = simplify(m, options);
-  }
-  const SimplifyResult all = simplify(m, options);
-  ASSERT_EQ(one.mesh.n_vertices(), all.mesh.n_vertices());
-  ASSERT_GT(one.mesh.n_vertices(), 2048u);
-  std::size_t differ = 0;
-  for (Vertex v : one.mesh.vertices()) differ += one.mesh.position(v) != all.mesh.position(v);
-  EXPECT_EQ(differ, 0u);
+  const OneAndAll r = simplify_one_and_all(test::torus(100, 50), {.ratio = 0.5, .refit_iterations = 1});
+  ASSERT_EQ(r.one.mesh.n_vertices(), r.all.mesh.n_vertices());
+  ASSERT_GT(r.one.mesh.n_vertices(), 2048u);
+  EXPECT_EQ(r.positions_differ(), 0u);
 }
 
 TEST(Refit, SameResultOnOneThreadAsOnAllFromVertexSamples) {
   // The automatic round at 10% (input vertices as the only samples): the walks start from
   // a prepared fan, whichever sample came before, and the blocks move even ones first, then
   // odd ones. 4.5k output vertices make nine blocks of 512.
-  const SurfaceMesh m = test::torus(300, 150, 1.0, 0.35, 0.01);
-  SimplifyResult one;
-  {
-    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
-    one = simplify(m, {.ratio = 0.1});
-  }
-  const SimplifyResult all = simplify(m, {.ratio = 0.1});
-  ASSERT_EQ(all.refit_rounds, 1);
-  ASSERT_EQ(one.mesh.n_vertices(), all.mesh.n_vertices());
-  ASSERT_GT(one.mesh.n_vertices(), 4096u);
-  std::size_t differ = 0;
-  for (Vertex v : one.mesh.vertices()) differ += one.mesh.position(v) != all.mesh.position(v);
-  EXPECT_EQ(differ, 0u);
+  const OneAndAll r = simplify_one_and_all(test::torus(300, 150, 1.0, 0.35, 0.01), {.ratio = 0.1});
+  ASSERT_EQ(r.all.refit_rounds, 1);
+  ASSERT_EQ(r.one.mesh.n_vertices(), r.all.mesh.n_vertices());
+  ASSERT_GT(r.one.mesh.n_vertices(), 4096u);
+  EXPECT_EQ(r.positions_differ(), 0u);
 }
 
 TEST(Refit, VertexSampleWeightsComeFromTheSetup) {
