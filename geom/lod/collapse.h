@@ -299,6 +299,8 @@ class CollapseEngine {
   double tip_height2(const Worker& w, int start, const Point& p, const Point& x, double t2) const;
   double midpoint_height2(std::uint32_t u, std::uint32_t v, const Point& p, const Worker& w,
                           double t2) const;
+  double old_surface_distance2(std::uint32_t u, std::uint32_t v, std::uint32_t q, const Point& m,
+                               double tm) const;
   /// Returns the number of triangles removed.
   int collapse(Worker& w, std::uint32_t u, std::uint32_t v, const Placement& pl);
   void ensure_refs(Worker& w, std::size_t extra);
