@@ -130,8 +130,8 @@ void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsig
       const unsigned len = static_cast<unsigned>(std::bit_width(z));
       rans.encode(m.length[context(x, count, prev_len, activity)], len);
       if (len >= 2) {
-        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
-        rans.encode(m.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+        const unsigned rb = len - 1 - modelled_bits(len);
+        m.encode_top(rans, x, len, z, rb);
         raw.put(z & ((1u << rb) - 1), rb);
       }
       prev_len = len;
@@ -202,8 +202,8 @@ void encode_positions_each(const CornerTable& t, std::span<const QPoint> q, unsi
         const unsigned len = static_cast<unsigned>(std::bit_width(z));
         rans[j].encode(m.length[context(x, count[j], prev_len[j], activity[j])], len);
         if (len >= 2) {
-          const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
-          rans[j].encode(m.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+          const unsigned rb = len - 1 - modelled_bits(len);
+          m.encode_top(rans[j], x, len, z, rb);
           raw[j].put(z & ((1u << rb) - 1), rb);
         }
         prev_len[j] = len;

@@ -7,11 +7,14 @@
 
 namespace geom::codec {
 
-AdaptiveModel::AdaptiveModel(unsigned n_symbols) : n_(n_symbols) {
+AdaptiveModel::AdaptiveModel(unsigned n_symbols) : n_(n_symbols), groups_((n_symbols + 14) / 16) {
   if (n_symbols < 2 || n_symbols > kMaxSymbols)
     throw InvalidArgument("AdaptiveModel: alphabet size must be in [2, 64], got " +
                           std::to_string(n_symbols));
   for (unsigned s = 0; s < n_; ++s) counts_[s] = 1;
+  // Symbol n_ − 1 ends at 2^15, and so do the symbols past the alphabet: find() may read
+  // whole groups of boundaries. rebuild() writes only the boundaries that move.
+  bound_.fill(static_cast<std::int16_t>(kProbScale - 1));
   // Start with frequent rebuilds so the model learns quickly, then back off to keep the
   // per-symbol cost of rebuilding small.
   interval_ = 8;
@@ -20,13 +23,7 @@ AdaptiveModel::AdaptiveModel(unsigned n_symbols) : n_(n_symbols) {
 
 void AdaptiveModel::rebuild() {
   detail::rebuild_cumulative(counts_.data(), n_, cum_.data());
-  // Boundaries past the alphabet sit above every slot, so find() may count a fixed number.
-  for (unsigned s = n_ + 1; s < cum_.size(); ++s) cum_[s] = kProbScale;
-  unsigned s = 0;
-  for (unsigned i = 0; n_ > kBranchFree && i < coarse_.size(); ++i) {
-    while (cum_[s + 1] <= (i << kCoarseShift)) ++s;
-    coarse_[i] = static_cast<std::uint8_t>(s);
-  }
+  for (unsigned s = 0; s + 1 < n_; ++s) bound_[s] = static_cast<std::int16_t>(cum_[s + 1] - 1);
   interval_ = std::min<std::uint32_t>(interval_ * 2, detail::kModelMaxInterval);
   until_rebuild_ = interval_;
 }
@@ -74,27 +71,28 @@ std::vector<std::uint8_t> RansEncoder::finish() const {
 }
 
 RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base)
-    : data_(bytes.data()), size_(bytes.size()), base_(base) {
-  if (size_ < 4) fail("rANS stream shorter than its 4-byte state");
+    : data_(bytes.data()), next_(data_), end_(data_ + bytes.size()), last_quad_(data_),
+      base_(base) {
+  if (bytes.size() < 4) fail("rANS stream shorter than its 4-byte state");
+  last_quad_ = end_ - 4;
   x_ = (std::uint32_t{data_[0]} << 24) | (std::uint32_t{data_[1]} << 16) |
        (std::uint32_t{data_[2]} << 8) | data_[3];
-  pos_ = 4;
+  next_ = data_ + 4;
   if (x_ < kLow) fail("rANS initial state out of range");
 }
 
 std::uint32_t RansDecoder::decode_flat(unsigned bits) {
   const std::uint32_t v = x_ & ((1u << bits) - 1);
-  x_ >>= bits;
-  renormalise();
+  renormalise(x_ >> bits);
   return v;
 }
 
 void RansDecoder::finish() const {
-  if (pos_ != size_ || x_ != kLow) fail("rANS stream does not end where the encoder finished");
+  if (next_ != end_ || x_ != kLow) fail("rANS stream does not end where the encoder finished");
 }
 
 void RansDecoder::fail(const char* what) const {
-  throw DecodeError(base_ + pos_, std::string(what) + " at byte " + std::to_string(base_ + pos_));
+  throw DecodeError(offset(), std::string(what) + " at byte " + std::to_string(offset()));
 }
 
 void BitReader::fail() const {

@@ -12,10 +12,16 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
+#include <cstring>
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace geom::codec {
 
@@ -76,19 +82,33 @@ class AdaptiveModel {
   unsigned size() const { return n_; }
   std::uint32_t start(unsigned s) const { return cum_[s]; }
   std::uint32_t freq(unsigned s) const { return cum_[s + 1] - cum_[s]; }
-  /// The symbol whose interval holds slot (slot < 2^15).
+  /// The symbol whose interval holds slot (slot < 2^15): the number of boundaries at or
+  /// below it, counted branch-free (a scan's exit branch would mispredict often).
   unsigned find(std::uint32_t slot) const {
-    // Small alphabets: count the boundaries at or below slot, branch-free (their symbols
-    // are the least predictable, so a scan's exit branch would mispredict often).
-    if (n_ <= kBranchFree) {
-      unsigned s = 0;
-      for (unsigned i = 1; i < kBranchFree; ++i) s += cum_[i] <= slot;
-      return s;
-    }
-    // The coarse table jumps past most of a skewed alphabet; a short scan finishes.
-    unsigned s = coarse_[slot >> kCoarseShift];
-    while (cum_[s + 1] <= slot) ++s;
+#if defined(__SSE2__)
+    // Sixteen boundaries per step: the comparisons' byte mask is a run of ones from bit 0
+    // (boundaries ascend), so the symbol is the run's length. The lane past the last real
+    // boundary never compares true, so the complement has a set bit.
+    const __m128i s = _mm_set1_epi16(static_cast<short>(slot));
+    const auto* b = reinterpret_cast<const __m128i*>(bound_.data());
+    auto group = [&](unsigned g) {
+      const __m128i lo = _mm_cmpgt_epi16(s, _mm_load_si128(b + 2 * g));
+      const __m128i hi = _mm_cmpgt_epi16(s, _mm_load_si128(b + 2 * g + 1));
+      return static_cast<unsigned>(_mm_movemask_epi8(_mm_packs_epi16(lo, hi)));
+    };
+    if (groups_ == 1) [[likely]]  // up to 17 symbols: every alphabet but 33-symbol lengths
+      return static_cast<unsigned>(__builtin_ctz(~group(0)));  // ~: bit 16 up are set
+    if (groups_ == 2)  // up to 33 symbols; 64 bits, so that the complement has a set bit
+      return static_cast<unsigned>(
+          __builtin_ctzll(~(std::uint64_t{group(1)} << 16 | group(0))));
+    std::uint64_t below = 0;
+    for (unsigned g = 0; g < groups_; ++g) below |= std::uint64_t{group(g)} << (16 * g);
+    return static_cast<unsigned>(std::countr_one(below));
+#else
+    unsigned s = 0;
+    for (unsigned i = 0; i < 16 * groups_; ++i) s += unsigned(bound_[i] < std::int32_t(slot));
     return s;
+#endif
   }
   /// Account for one coded symbol.
   void update(unsigned s) {
@@ -97,17 +117,18 @@ class AdaptiveModel {
   }
 
  private:
-  static constexpr unsigned kCoarseShift = 10;
-  static constexpr unsigned kBranchFree = 8;
   void rebuild();
 
+  /// bound_[i] = cum_[i + 1] − 1, the last slot of symbol i, for the decoder's find (not part
+  /// of the format). Entries from n_ − 1 on are 2^15 − 1, above every slot; 16-bit signed, so
+  /// that SSE2 compares eight at once.
+  alignas(16) std::array<std::int16_t, kMaxSymbols> bound_{};
   unsigned n_;
+  unsigned groups_;  // 16-entry groups of bound_ that find() reads: ceil((n_ − 1) / 16)
   std::uint32_t until_rebuild_;
   std::uint32_t interval_;
   std::array<std::uint32_t, kMaxSymbols + 1> cum_{};
   std::array<std::uint32_t, kMaxSymbols> counts_{};
-  /// The symbol holding slot i << kCoarseShift (decoder speed only; not part of the format).
-  std::array<std::uint8_t, (kProbScale >> kCoarseShift)> coarse_{};
 };
 
 /// An AdaptiveModel of a fixed, small alphabet (N ≤ 8) that codes exactly the same: the
@@ -116,6 +137,7 @@ class AdaptiveModel {
 template <unsigned N>
 class alignas(64) SmallModel {
   static_assert(N >= 2 && N <= 8);
+  static_assert(2 + 16 <= 2 * (N + 1) + 4 + 4 * N, "find() reads 16 bytes from cum_[1]");
 
  public:
   SmallModel() {
@@ -126,6 +148,19 @@ class alignas(64) SmallModel {
   std::uint32_t start(unsigned s) const { return cum_[s]; }
   std::uint32_t freq(unsigned s) const { return std::uint32_t{cum_[s + 1]} - cum_[s]; }
   unsigned find(std::uint32_t slot) const {
+#if defined(__SSE2__)
+    if constexpr (N >= 6) {
+      // One compare of cum_[1 … 8] (boundaries ascend, so the lanes at or below slot are
+      // a run from lane 0; lane N − 1 holds 2^15, which ends the run before the lanes past
+      // cum_, the next members' bytes). cum ≤ slot ⇔ the saturating cum − slot is 0.
+      __m128i cum;
+      std::memcpy(&cum, reinterpret_cast<const unsigned char*>(this) + 2, 16);
+      const __m128i left = _mm_subs_epu16(cum, _mm_set1_epi16(static_cast<short>(slot)));
+      const auto below = static_cast<unsigned>(
+          _mm_movemask_epi8(_mm_cmpeq_epi16(left, _mm_setzero_si128())));
+      return static_cast<unsigned>(__builtin_ctz(~below)) / 2;
+    }
+#endif
     unsigned s = 0;
     for (unsigned i = 1; i < N; ++i) s += cum_[i] <= slot;
     return s;
@@ -142,7 +177,7 @@ class alignas(64) SmallModel {
         std::min<std::uint32_t>(interval_ * 2u, detail::kModelMaxInterval));
     until_rebuild_ = interval_;
   }
-  std::array<std::uint16_t, N + 1> cum_{};  // ≤ 2^15
+  std::array<std::uint16_t, N + 1> cum_{};  // ≤ 2^15; first, at offset 0, for find()
   std::uint16_t until_rebuild_ = 0;
   std::uint16_t interval_ = 8;
   std::array<std::uint32_t, N> counts_{};
@@ -182,11 +217,13 @@ class RansDecoder {
 
   template <class Model>  // AdaptiveModel or SmallModel
   unsigned decode(Model& model) {
-    const std::uint32_t slot = x_ & (kProbScale - 1);
+    const std::uint32_t x = x_, slot = x & (kProbScale - 1);
     const unsigned s = model.find(slot);
-    x_ = model.freq(s) * (x_ >> kProbBits) + slot - model.start(s);
+    const std::uint32_t freq = model.freq(s), start = model.start(s);
+    // The model's update first: its stores could alias x_, which then stays in a register
+    // through the renormalisation.
     model.update(s);
-    renormalise();
+    renormalise(freq * (x >> kProbBits) + slot - start);
     return s;
   }
   std::uint32_t decode_flat(unsigned bits);
@@ -194,32 +231,42 @@ class RansDecoder {
   /// byte consumed and the state back at its initial value): catches most corruption.
   void finish() const;
   /// Absolute byte offset of the next unread byte (for error messages).
-  std::uint64_t offset() const { return base_ + pos_; }
+  std::uint64_t offset() const { return base_ + static_cast<std::uint64_t>(next_ - data_); }
 
  private:
   static constexpr std::uint32_t kLow = 1u << 23;
   // After a symbol x ≥ 2^8 (x ≥ 2^23 before, freq ≥ 32, flat bits ≤ 15), so at most two
   // bytes are due. Whether one is due is a coin toss to the branch predictor, so away from
-  // the end of the stream their count is computed instead of looped on.
-  void renormalise() {
-    if (pos_ + 2 <= size_) [[likely]] {
-      const unsigned n = unsigned{x_ < kLow} + unsigned{x_ < (kLow >> 8)};
-      const std::uint32_t next = (std::uint32_t{data_[pos_]} << 8) | data_[pos_ + 1];
-      const unsigned shift = 8 * n;
-      x_ = static_cast<std::uint32_t>((std::uint64_t{x_} << shift) | (next >> (16 - shift)));
-      pos_ += n;
+  // the end of the stream the next four bytes are appended below x, shifted up by the bytes
+  // due, and all but those dropped again, instead of looping byte by byte.
+  // x is the state after the symbol (passed in, so that the fast path stores x_ once).
+  void renormalise(std::uint32_t x) {
+    if (next_ <= last_quad_) [[likely]] {
+      // x − 2^23 and x − 2^15 are negative (top bit set) exactly when a byte is due: x < 2^31.
+      const unsigned n = ((x - kLow) >> 31) + ((x - (kLow >> 8)) >> 31);
+      const std::uint64_t wide = (std::uint64_t{x} << 32) | load_be32(next_);
+      x_ = static_cast<std::uint32_t>((wide << (8 * n)) >> 32);
+      next_ += n;
       return;
     }
+    x_ = x;
     while (x_ < kLow) {
-      if (pos_ >= size_) fail("rANS stream ends early");
-      x_ = (x_ << 8) | data_[pos_++];
+      if (next_ >= end_) fail("rANS stream ends early");
+      x_ = (x_ << 8) | *next_++;
     }
+  }
+  static std::uint32_t load_be32(const std::uint8_t* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);  // one load; the bytes are big-endian on the wire
+    if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap32(v);
+    return v;
   }
   [[noreturn]] void fail(const char* what) const;
 
-  const std::uint8_t* data_;
-  std::size_t size_;
-  std::size_t pos_ = 0;
+  const std::uint8_t* data_;  // the stream's first byte (offsets are counted from it)
+  const std::uint8_t* next_;  // the next unread byte
+  const std::uint8_t* end_;
+  const std::uint8_t* last_quad_;  // end_ − 4: the last place four bytes can be read from
   std::uint64_t base_;
   std::uint32_t x_ = 0;
 };

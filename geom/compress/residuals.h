@@ -8,6 +8,7 @@
 #include <geom/compress/rans.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -27,14 +28,23 @@ inline constexpr unsigned kLengthClasses = 12;
 /// minimum frequency, so 20 unused ones cost about 0.03 bits per residual.
 struct ResidualModels {
   std::vector<AdaptiveModel> length;
-  std::vector<AdaptiveModel> top;
+  /// The modelled bits below the leading one (modelled_bits(len)), per axis: one bit for
+  /// length 2, and two per length 3 … 32 (top4[axis * 33 + len]; the entries below 3 are
+  /// unused). Fixed alphabets, so the decoder's symbol search is two or three compares.
+  std::vector<SmallModel<2>> top2;  // (vectors: an over-aligned member would over-align
+  std::vector<SmallModel<4>> top4;  //  the coders holding the models)
   /// kMultiParallelogramSelect's subset masks, one model per number of candidates (2 … 4).
   std::vector<AdaptiveModel> subset;
   explicit ResidualModels(unsigned n_lengths = 33)
-      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)) {
-    top.reserve(3 * 33);
-    for (unsigned i = 0; i < 3 * 33; ++i) top.emplace_back(i % 33 <= 2 ? 2 : 4);
+      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)), top2(3), top4(3 * 33) {
     for (unsigned m = 2; m <= kMaxSelect; ++m) subset.emplace_back((1u << m) - 1);
+  }
+  /// Codes the modelled bits of a residual z of length len ≥ 2 whose lowest rb bits are raw.
+  void encode_top(RansEncoder& rans, unsigned axis, unsigned len, std::uint32_t z, unsigned rb) {
+    if (len == 2)
+      rans.encode(top2[axis], (z >> rb) & 1u);
+    else
+      rans.encode(top4[axis * 33 + len], (z >> rb) & 3u);
   }
 };
 
@@ -72,25 +82,36 @@ class ResidualReader {
   std::uint32_t top() const { return top_; }
   /// Writes the decoded grid point to out; returns the largest residual length.
   unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
-    unsigned longest = 0;
+    // context()'s terms that do not depend on the axis, hoisted.
+    AdaptiveModel* const length = m_.length.data() + (count > 2 ? 2 : count) * kLengthClasses;
+    SmallModel<4>* const top4 = m_.top4.data();
+    std::uint32_t point[3];  // stored to out at the end: out may alias the models' counts
+    unsigned longest = 0, prev = prev_len_;
+#pragma GCC unroll 3
     for (unsigned x = 0; x < 3; ++x) {
-      const unsigned len = rans_.decode(m_.length[context(x, count, prev_len_, activity)]);
+      const unsigned blend = x == 0 ? activity : (prev + activity + 1) / 2;
+      const unsigned pl = blend >= kLengthClasses ? kLengthClasses - 1 : blend;
+      // The length models have at most 33 symbols, so len ≤ 32.
+      const unsigned len = rans_.decode(length[x * 3 * kLengthClasses + pl]);
       std::uint32_t z = len;  // lengths 0 and 1 are the values 0 and 1
-      if (len >= 2) {
-        if (len > 32) fail("position residual too long");
-        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
-        const std::uint64_t high = (std::uint64_t{1} << mb) | rans_.decode(m_.top[x * 33 + len]);
-        z = static_cast<std::uint32_t>((high << rb) | raw_.get(rb));
+      if (len == 2) {
+        z = 2 | rans_.decode(m_.top2[x]);
+      } else if (len > 2) {
+        const unsigned rb = len - 3;  // modelled_bits(len) = 2
+        const std::uint32_t high = 4 | rans_.decode(top4[x * 33 + len]);
+        z = (high << rb) | raw_.get(rb);
       }
-      const std::int64_t r = (z & 1u) ? -static_cast<std::int64_t>((z >> 1) + 1)
-                                      : static_cast<std::int64_t>(z >> 1);
-      const std::int64_t v = std::int64_t{p[x]} + r;
-      if (v < 0 || v > top_)
+      // Zigzag: even z are z / 2, odd z are −(z + 1) / 2. A point below 0 wraps above top_.
+      const std::int64_t r = std::int64_t{z >> 1} ^ -std::int64_t{z & 1u};
+      const auto v = static_cast<std::uint64_t>(std::int64_t{p[x]} + r);
+      if (v > top_)
         fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
-      out[x] = static_cast<std::uint32_t>(v);
-      prev_len_ = len;
+      point[x] = static_cast<std::uint32_t>(v);
+      prev = len;
       longest = std::max(longest, len);
     }
+    prev_len_ = prev;
+    for (unsigned x = 0; x < 3; ++x) out[x] = point[x];
     return longest;
   }
   /// kMultiParallelogramSelect: the subset mask (1 … 2^m − 1) of m candidates.
@@ -137,8 +158,8 @@ class ResidualWriter {
       const unsigned len = static_cast<unsigned>(std::bit_width(z));
       rans_.encode(m_.length[context(x, count, prev_len_, activity)], len);
       if (len >= 2) {
-        const unsigned mb = modelled_bits(len), rb = len - 1 - mb;
-        rans_.encode(m_.top[x * 33 + len], (z >> rb) & ((1u << mb) - 1));
+        const unsigned rb = len - 1 - modelled_bits(len);
+        m_.encode_top(rans_, x, len, z, rb);
         raw_.put(z & ((1u << rb) - 1), rb);
       }
       prev_len_ = len;
