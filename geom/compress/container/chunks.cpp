@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <numeric>
 #include <string>
 #include <unordered_map>
 
