@@ -26,6 +26,18 @@ py::bytes bytes_object(const std::vector<std::uint8_t>& b) {
   return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
+/// The vector as an n×width numpy array that owns it (no copy: a decoded 1M-triangle mesh's
+/// arrays are tens of megabytes); None when it is empty and `none_if_empty`.
+template <class T>
+py::object owning_array(std::vector<T>&& v, py::ssize_t width, bool none_if_empty) {
+  if (v.empty() && none_if_empty) return py::none();
+  auto* owner = new std::vector<T>(std::move(v));
+  py::capsule free_owner(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  const py::ssize_t rows = static_cast<py::ssize_t>(owner->size()) / width;
+  return py::array_t<T>({rows, width}, {width * py::ssize_t(sizeof(T)), py::ssize_t(sizeof(T))},
+                        owner->data(), free_owner);
+}
+
 }  // namespace
 
 void bind_compress(py::module_& m) {
@@ -94,6 +106,22 @@ void bind_compress(py::module_& m) {
         py::gil_scoped_release release;
         return decompress(std::span<const std::uint8_t>(
             reinterpret_cast<const std::uint8_t*>(s.data()), s.size()));
+      },
+      py::arg("data"));
+  m.def(
+      "decompress_flat",
+      [](const py::bytes& data) {
+        const std::string s = data;  // a copy: the GIL is released while decoding
+        codec::FlatDecode f;
+        {
+          py::gil_scoped_release release;
+          f = codec::decompress_flat(std::span<const std::uint8_t>(
+              reinterpret_cast<const std::uint8_t*>(s.data()), s.size()));
+        }
+        return py::make_tuple(owning_array(std::move(f.positions), 3, false),
+                              owning_array(std::move(f.triangles), 3, false),
+                              owning_array(std::move(f.normals), 3, true),
+                              owning_array(std::move(f.texcoords), 2, true));
       },
       py::arg("data"));
 }

@@ -259,3 +259,47 @@ def test_cli_names_the_properties_it_cannot_store(run, tmp_path):
     assert json.loads(r.stdout)["dropped_properties"] == ["f:quality"]
     r = run("compress", src, gmc, "--force", "--quiet")
     assert r.returncode == 0 and r.stderr == ""
+
+
+def test_decompress_arrays_match_the_mesh_decode():
+    # One stream, two chunks and a polygon mesh: the arrays are the mesh decode's vertices
+    # (as float32) and faces, in the same order; a polygon comes back as triangles of its own.
+    for mesh, kwargs in ((torus(), {}), (torus(200, 100, R=3.0, r=1.0), {"chunk_triangles": 16384}),
+                         (quad_grid(), {})):
+        data = geom.compress(mesh, bits=12, **kwargs)
+        out, _ = geom.decompress(data)
+        arrays = geom.decompress_arrays(data)
+        assert arrays.positions.dtype == np.float32 and arrays.triangles.dtype == np.uint32
+        assert np.array_equal(arrays.positions, out.vertices.astype(np.float32))
+        faces = [list(f) for f in out.faces]
+        if all(len(f) == 3 for f in faces):
+            assert np.array_equal(arrays.triangles, np.asarray(faces))
+        else:
+            assert len(arrays.triangles) == sum(len(f) - 2 for f in faces)
+            corners = [set(f) for f in faces]
+            assert all(any(set(t) <= c for c in corners) for t in arrays.triangles.tolist())
+        assert arrays.normals is None and arrays.texcoords is None
+    with pytest.raises(geom.DecodeError, match=r"^byte \d+: "):
+        geom.decompress_arrays(data[: len(data) // 2])
+
+
+def test_decompress_arrays_return_normals_and_texcoords(tmp_path):
+    mesh = torus(16, 8)
+    v = mesh.vertices
+    n = v - np.c_[v[:, :2] / np.linalg.norm(v[:, :2], axis=1)[:, None], np.zeros(len(v))]
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    uv = np.c_[np.arctan2(v[:, 1], v[:, 0]), 2 * v[:, 2]]
+    src = tmp_path / "t.ply"
+    header = ["ply", "format ascii 1.0", f"element vertex {len(v)}"] + [
+        f"property double {c}" for c in ("x", "y", "z", "nx", "ny", "nz", "s", "t")] + [
+        f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
+    body = [" ".join(repr(float(x)) for x in row) for row in np.c_[v, n, uv]]
+    body += ["3 " + " ".join(str(i) for i in f) for f in np.asarray(mesh.faces)]
+    src.write_text("\n".join(header + body) + "\n")
+    data, perm = geom.compress(geom.load(src), normal_bits=12, return_permutation=True)
+    arrays = geom.decompress_arrays(data)
+    assert arrays.normals.shape == (len(v), 3) and arrays.texcoords.shape == (len(v), 2)
+    cos = np.clip((n[perm.vertices] * arrays.normals).sum(axis=1), -1, 1)
+    assert np.arccos(cos).max() <= 4.5 / 2 ** 12 + 1e-6  # + float32 rounding
+    uv_bound = 0.5 * (uv.max(axis=0) - uv.min(axis=0)).max() / (2 ** 12 - 1)
+    assert np.abs(arrays.texcoords - uv[perm.vertices]).max() <= uv_bound + 1e-6
