@@ -131,6 +131,29 @@ TEST(LinkTriangles, RefusesWhatAddFaceRefuses) {
   }
 }
 
+/// The fan check runs on all cores; its error must still name the lowest bad vertex, as a
+/// serial check would, however the vertices are scheduled.
+TEST(LinkTriangles, ErrorNamesTheLowestBadVertexOnAnyCore) {
+  // A closed fan (a tetrahedron) at its first vertex, touched there by another triangle.
+  test::Arrays defect;
+  for (int k = 0; k < 6; ++k) defect.points.push_back({k * 1.0, k * k * 1.0, k * k * k * 1.0});
+  defect.faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}, {0, 4, 5}};
+  test::Arrays a = test::grid(90, 90);  // 8281 vertices: several blocks of the parallel check
+  const auto first = static_cast<std::uint32_t>(a.points.size());
+  a.append(defect, {0, 0, 5});
+  a.append(test::grid(90, 90), {0, 0, 10});
+  a.append(defect, {0, 0, 15});
+  const std::string want = "vertex " + std::to_string(first) + " is shared by faces";
+  for (int run = 0; run < 20; ++run) {
+    try {
+      link(a);
+      FAIL();
+    } catch (const DecodeError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(LinkTriangles, ThreeFansRoundTrip) {
   const SurfaceMesh in = three_fans().build();
   for (bool preserve : {false, true}) {

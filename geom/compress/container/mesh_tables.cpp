@@ -1,6 +1,7 @@
 #include <geom/compress/container/mesh_tables.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -216,6 +217,62 @@ Polygons reassemble(const CornerTable& t, std::uint64_t where) {
   return out;
 }
 
+namespace {
+
+/// What link_triangles knows about each vertex once the faces are linked.
+struct VertexFans {
+  std::span<const std::uint32_t> vertex, twin, degree, any_corner;
+  std::span<const Halfedge> first_in;  // valid for boundary vertices
+};
+
+/// Whether rotating around v meets every corner there once (else some fan is a second,
+/// closed one: a complex vertex) and every neighbour once (else two edges join the same
+/// vertices); stamp[x] == v marks neighbour x as met. Interior vertices rotate on the corner
+/// arrays; the few boundary ones on the mesh, whose rotation hops between their fans. With
+/// `why`, says what is wrong. Reads only, so vertices are checked in parallel.
+bool fans_ok(const SurfaceMesh& mesh, const VertexFans& f, std::uint32_t v,
+             std::vector<std::uint32_t>& stamp, std::string* why) {
+  const std::uint32_t degree = f.degree[v];
+  if (degree == 0) return true;
+  std::uint32_t corners = 0;
+  bool twice = false;
+  auto meet = [&](std::uint32_t to_vertex) {
+    if (stamp[to_vertex] == v && !twice) {
+      twice = true;
+      if (why)
+        *why = "vertices " + std::to_string(v) + " and " + std::to_string(to_vertex) +
+               " share two edges";
+    }
+    stamp[to_vertex] = v;
+  };
+  bool one_fan = true;
+  if (!f.first_in[v].is_valid()) {
+    const std::uint32_t start = f.any_corner[v];
+    std::uint32_t x = start;
+    do {
+      meet(f.vertex[next_corner(x)]);
+      ++corners;
+      x = f.twin[prev_corner(x)];
+    } while (!twice && x != kNone && x != start && corners < degree);
+    one_fan = twice || (x == start && corners == degree);
+  } else {
+    const Halfedge start = mesh.halfedge(Vertex(v));
+    Halfedge h = start;
+    std::uint32_t steps = 0;
+    do {
+      meet(mesh.to_vertex(h).idx());
+      corners += !mesh.is_boundary(h);
+      h = mesh.ccw_rotated(h);
+    } while (!twice && h != start && ++steps <= 2 * degree);
+    one_fan = twice || (corners == degree && h == start);
+  }
+  if (!one_fan && why)
+    *why = "vertex " + std::to_string(v) + " is shared by faces that do not form one fan";
+  return one_fan && !twice;
+}
+
+}  // namespace
+
 void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
                     std::span<const std::uint32_t> twin, std::uint64_t where) {
   const std::size_t nv = mesh.vertices_size(), nc = vertex.size(), nf = nc / 3;
@@ -224,7 +281,7 @@ void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
   };
   // Corner i is the halfedge vertex[i] → vertex[next(i)].
   auto to = [&](std::uint32_t i) { return vertex[next_corner(i)]; };
-  std::vector<std::uint32_t> degree(nv, 0), stamp(nv, kNone), any_corner(nv);
+  std::vector<std::uint32_t> degree(nv, 0), any_corner(nv);
   std::size_t n_edges = 0;
   for (std::uint32_t i = 0; i < nc; ++i) {
     const std::uint32_t a = vertex[i], t = twin[i];
@@ -244,12 +301,16 @@ void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
     if (twin[i] != kNone) he[twin[i]] = Halfedge(2 * e + 1);
     ++e;
   }
-  for (std::uint32_t i = 0; i < nc; ++i) {
-    mesh.set_vertex(he[i], Vertex(to(i)));
-    mesh.set_face(he[i], Face(i / 3));
-    mesh.set_next(he[i], he[next_corner(i)]);
-    if (i % 3 == 2) mesh.set_halfedge(Face(i / 3), he[i]);  // ends at the first corner
-  }
+  // Each corner writes its own halfedge (and its face's): the corners link on all cores.
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(nc), 3 * 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      for (std::uint32_t i = r.begin(); i < r.end(); ++i) {
+                        mesh.set_vertex(he[i], Vertex(to(i)));
+                        mesh.set_face(he[i], Face(i / 3));
+                        mesh.set_next(he[i], he[next_corner(i)]);
+                        if (i % 3 == 2) mesh.set_halfedge(Face(i / 3), he[i]);  // ends at corner 0
+                      }
+                    });
   for (std::uint32_t v = 0; v < nv; ++v)
     if (degree[v] > 0) mesh.set_halfedge(Vertex(v), he[any_corner[v]]);
   // Around a vertex a, its corners form fans: from corner x (a → b) the next one is
@@ -257,7 +318,6 @@ void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
   // (y → a) without one. The boundary halfedges link the fans of a vertex in a cycle (b → a
   // of each fan is followed by a → y of the fan found before it, the first fan's by the
   // last one's), so rotating around a vertex visits all of them.
-  std::vector<std::uint32_t> fan_corners(nv, 0);
   std::vector<Halfedge> first_in(nv), last_out(nv);
   for (std::uint32_t i = 0; i < nc; ++i) {
     if (twin[i] != kNone) continue;
@@ -281,41 +341,27 @@ void link_triangles(SurfaceMesh& mesh, std::span<const std::uint32_t> vertex,
       mesh.set_next(first_in[v], last_out[v]);
       mesh.set_halfedge(Vertex(v), last_out[v]);
     }
-  // Rotating around each vertex must meet every corner there once (else some fan is a
-  // second, closed one: a complex vertex) and every neighbour once (else two edges join
-  // the same vertices). Interior vertices rotate on the corner arrays; the few boundary
-  // ones on the mesh, whose rotation hops between their fans.
-  for (std::uint32_t v = 0; v < nv; ++v) {
-    if (degree[v] == 0) continue;
-    std::uint32_t corners = 0;
-    auto meet = [&](std::uint32_t to_vertex) {
-      if (stamp[to_vertex] == v)
-        fail("vertices " + std::to_string(v) + " and " + std::to_string(to_vertex) +
-             " share two edges");
-      stamp[to_vertex] = v;
-    };
-    if (!first_in[v].is_valid()) {
-      const std::uint32_t start = any_corner[v];
-      std::uint32_t x = start;
-      do {
-        meet(to(x));
-        ++corners;
-        x = twin[prev_corner(x)];
-      } while (x != kNone && x != start && corners < degree[v]);
-      if (x != start || corners != degree[v])
-        fail("vertex " + std::to_string(v) + " is shared by faces that do not form one fan");
-      continue;
-    }
-    const Halfedge start = mesh.halfedge(Vertex(v));
-    Halfedge h = start;
-    std::uint32_t steps = 0;
-    do {
-      meet(mesh.to_vertex(h).idx());
-      corners += !mesh.is_boundary(h);
-      h = mesh.ccw_rotated(h);
-    } while (h != start && ++steps <= 2 * degree[v]);
-    if (corners != degree[v] || h != start)
-      fail("vertex " + std::to_string(v) + " is shared by faces that do not form one fan");
+  // The fan check on all cores (a random walk over the corners per vertex); the error names
+  // the lowest bad vertex, as a serial check would, whatever the scheduling.
+  const VertexFans fans{vertex, twin, degree, any_corner, first_in};
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> stamps(
+      [&] { return std::vector<std::uint32_t>(nv, kNone); });
+  std::atomic<std::uint32_t> first_bad{kNone};
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(nv), 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      std::vector<std::uint32_t>& stamp = stamps.local();
+                      for (std::uint32_t v = r.begin(); v < r.end(); ++v)
+                        if (!fans_ok(mesh, fans, v, stamp, nullptr)) {
+                          std::uint32_t seen = first_bad.load();
+                          while (v < seen && !first_bad.compare_exchange_weak(seen, v)) {}
+                          break;
+                        }
+                    });
+  if (const std::uint32_t v = first_bad.load(); v != kNone) {
+    std::vector<std::uint32_t> stamp(nv, kNone);
+    std::string why;
+    fans_ok(mesh, fans, v, stamp, &why);
+    fail(why);
   }
 }
 
@@ -324,7 +370,29 @@ void link_decoded_triangles(SurfaceMesh& mesh, const CornerTable& t,
                             std::span<const std::uint32_t> rotation,
                             std::span<const std::uint32_t> vertex_slot, std::uint64_t where) {
   const std::size_t nc = 3 * face_of_slot.size();
-  std::vector<std::uint32_t> vertex(nc), out_corner(nc), twin(nc, kNone);
+  // Table corner c is the halfedge vertex(c) → vertex(next(c)): the edge opposite prev(c),
+  // whose reverse starts at next(opposite(prev(c))).
+  auto twin_of = [&](std::uint32_t c) {
+    const std::uint32_t o = t.opposite[prev_corner(c)];
+    return o == kNone ? kNone : next_corner(o);
+  };
+  auto is_identity = [](std::span<const std::uint32_t> p) {
+    for (std::uint32_t i = 0; i < p.size(); ++i)
+      if (p[i] != i) return false;
+    return true;
+  };
+  std::vector<std::uint32_t> twin(nc, kNone);
+  if (is_identity(face_of_slot) && is_identity(vertex_slot) &&
+      std::all_of(rotation.begin(), rotation.end(), [](std::uint32_t r) { return r == 0; })) {
+    // The decoder's own order (no order section): the table is the mesh's corners as they are.
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(nc), 3 * 4096),
+                      [&](const tbb::blocked_range<std::uint32_t>& r) {
+                        for (std::uint32_t c = r.begin(); c < r.end(); ++c) twin[c] = twin_of(c);
+                      });
+    link_triangles(mesh, t.vertex, twin, where);
+    return;
+  }
+  std::vector<std::uint32_t> vertex(nc), out_corner(nc);
   for (std::uint32_t s = 0; s < face_of_slot.size(); ++s) {
     const std::uint32_t j = face_of_slot[s];
     for (std::uint32_t i = 0; i < 3; ++i) {
@@ -333,12 +401,8 @@ void link_decoded_triangles(SurfaceMesh& mesh, const CornerTable& t,
       out_corner[c] = 3 * s + i;
     }
   }
-  // Table corner c is the halfedge vertex(c) → vertex(next(c)): the edge opposite prev(c),
-  // whose reverse starts at next(opposite(prev(c))).
-  for (std::uint32_t c = 0; c < nc; ++c) {
-    const std::uint32_t o = t.opposite[prev_corner(c)];
-    if (o != kNone) twin[out_corner[c]] = out_corner[next_corner(o)];
-  }
+  for (std::uint32_t c = 0; c < nc; ++c)
+    if (const std::uint32_t o = twin_of(c); o != kNone) twin[out_corner[c]] = out_corner[o];
   link_triangles(mesh, vertex, twin, where);
 }
 
