@@ -49,6 +49,26 @@ struct Gate {
 // closed mesh opens about 3T/2). One more record is the sentinel that stands for "no gate".
 // Untouched pages of the block cost nothing.
 std::size_t max_gates_for(std::size_t n_triangles) { return 3 * n_triangles; }
+std::size_t gate_bytes(std::size_t n_triangles) {
+  return (max_gates_for(n_triangles) + 1) * sizeof(Gate);
+}
+
+/// The gates waiting to be popped, in the scratch block after the gate records. Each gate is
+/// pushed at most once, when it opens, so max_gates_for(T) entries never overflow: a push
+/// needs no capacity check.
+class GateStack {
+ public:
+  explicit GateStack(std::uint32_t* base) : base_(base), top_(base) {}
+  bool empty() const { return top_ == base_; }
+  void push(std::uint32_t g) { *top_++ = g; }
+  std::uint32_t pop() { return *--top_; }
+  /// The entry on top; pre: not empty.
+  std::uint32_t top() const { return top_[-1]; }
+
+ private:
+  std::uint32_t* base_;
+  std::uint32_t* top_;
+};
 
 class Region {
  public:
@@ -57,6 +77,7 @@ class Region {
       : sentinel_(static_cast<std::uint32_t>(max_gates_for(n_triangles))) {
     scratch.reserve(connectivity_scratch_bytes(n_triangles));
     gates_ = scratch.array<Gate>(0, sentinel_ + std::size_t{1});
+    stack_ = scratch.array<std::uint32_t>(gate_bytes(n_triangles), sentinel_);
     gates_[sentinel_] = {kNone, kNone, kNone, kNone, kNone};
     // Closed meshes have about T/2 vertices; a mesh with boundaries more, which would cost
     // a doubling (twice the records cleared, and copied) unless the caller knows better.
@@ -74,10 +95,12 @@ class Region {
   }
   std::uint32_t n_vertices() const { return n_vertices_; }
   /// Decoded triangles around v, saturated at kFanClasses − 1.
-  unsigned fan(std::uint32_t v) const {
-    return std::min<std::uint32_t>(vertices_[v].corners, kFanClasses - 1);
+  unsigned fan(std::uint32_t v) const { return fan_class(vertices_[v].corners); }
+  static unsigned fan_class(std::uint32_t corners) {
+    return std::min<std::uint32_t>(corners, kFanClasses - 1);
   }
-  void add_corner(std::uint32_t v) { ++vertices_[v].corners; }
+  /// Returns v's new corner count.
+  std::uint32_t add_corner(std::uint32_t v) { return ++vertices_[v].corners; }
   /// Each vertex's corners (the degree pass's wedge lists are sized by them; counting here,
   /// in records the growth touches anyway, saves it a scattered pass over every corner).
   void corner_counts(std::vector<std::uint32_t>& out) const {
@@ -85,6 +108,7 @@ class Region {
     for (std::uint32_t v = 0; v < n_vertices_; ++v) out[v] = vertices_[v].corners;
   }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
+  std::uint32_t* stack_block() const { return stack_; }
   bool is_open(std::uint32_t g) const { return gates_[g].to != kNone; }
   void prefetch(std::uint32_t g) const { __builtin_prefetch(gates_ + g); }
 
@@ -94,6 +118,10 @@ class Region {
       if (gates_[g].to == b) return g;  // closed gates have none
     return kNone;
   }
+  /// The newest open gate out of / into v, or kNone. Lists run newest first, so when its far
+  /// end is w, it is the gate find() returns for v→w (or w→v).
+  std::uint32_t first_out(std::uint32_t v) const { return vertices_[v].out; }
+  std::uint32_t first_in(std::uint32_t v) const { return vertices_[v].in; }
   /// The boundary vertex after v (head of v's outgoing gates), or kNone.
   std::uint32_t after(std::uint32_t v) const { return vertices_[v].after; }
   /// The boundary vertex before v (tail of v's first incoming gate), or kNone.
@@ -114,10 +142,13 @@ class Region {
     b.before = from;
     return id;
   }
-  void close(std::uint32_t id) {
+  /// Pre: gate id is open (every caller holds a popped gate checked open, a list head or a
+  /// find() result).
+  // Forced inline: GCC kept it out of line, and with the calls the connectivity decoder
+  // took about 2% longer (alternated timings).
+  [[gnu::always_inline]] void close(std::uint32_t id) {
     Gate& g = gates_[id];
     const std::uint32_t to = g.to;
-    if (to == kNone) return;
     g.to = kNone;
     Vertex& a = vertices_[g.from];
     while (a.out != kNone && !is_open(a.out)) a.out = gates_[a.out].next_out;
@@ -140,10 +171,69 @@ class Region {
   std::uint32_t real(std::uint32_t g) const { return std::min(g, sentinel_); }
 
   Gate* gates_;  // in the scratch block, which holds exactly max_gates_for(T) + 1
+  std::uint32_t* stack_;  // after them, max_gates_for(T) entries
   std::uint32_t sentinel_;
   std::uint32_t n_gates_ = 0;
   std::uint32_t n_vertices_ = 0;
   std::vector<Vertex> vertices_;  // blank past n_vertices_, at least one
+};
+
+/// The growth's corner arrays, written through raw pointers. They are sized kStep triangles
+/// at a time, just before the step is written, so that sizing clears (and fills the
+/// opposites with kNone) lines the writes then find in cache. push_back's capacity check and
+/// size update per element were 7% of the decoder's growth instructions, and sizing the
+/// whole arrays up front wrote every page twice, the second time from memory.
+class CornerWriter {
+ public:
+  CornerWriter(CornerTable& out, std::size_t n_triangles, bool polygons)
+      : out_(out), max_(3 * n_triangles), polygons_(polygons) {
+    out.vertex.clear();
+    reserve_huge(out.vertex, max_);
+    out.opposite.clear();
+    reserve_huge(out.opposite, max_);
+    out.diagonal.clear();
+    if (polygons) out.diagonal.reserve(max_);
+  }
+  /// Corners written so far (3 per triangle).
+  std::size_t corners() const { return n_; }
+  /// Append triangle (a, b, c) with open edges; returns its index. Pre: corners() < 3T.
+  std::uint32_t add(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    if (n_ == end_) [[unlikely]] extend();
+    vertex_[n_] = a;
+    vertex_[n_ + 1] = b;
+    vertex_[n_ + 2] = c;
+    const auto t = static_cast<std::uint32_t>(n_ / 3);
+    n_ += 3;
+    return t;
+  }
+  std::uint32_t vertex(std::uint32_t c) const { return vertex_[c]; }
+  void pair(std::uint32_t a, std::uint32_t b) {
+    opposite_[a] = b;
+    opposite_[b] = a;
+  }
+  /// Pre: the writer was made for polygons.
+  void set_diagonal(std::uint32_t a, std::uint32_t b, std::uint8_t diagonal) {
+    diagonal_[a] = diagonal_[b] = diagonal;
+  }
+
+ private:
+  static constexpr std::size_t kStep = 1024;  // 12 KiB per array: the step stays in L1
+  void extend() {
+    end_ = std::min(end_ + 3 * kStep, max_);
+    out_.vertex.resize(end_);  // within the reserved capacity: no copy
+    out_.opposite.resize(end_, kNone);
+    if (polygons_) out_.diagonal.resize(end_, 0);
+    vertex_ = out_.vertex.data();
+    opposite_ = out_.opposite.data();
+    diagonal_ = out_.diagonal.data();
+  }
+  CornerTable& out_;
+  std::size_t max_;
+  bool polygons_;
+  std::size_t n_ = 0, end_ = 0;
+  std::uint32_t* vertex_ = nullptr;
+  std::uint32_t* opposite_ = nullptr;
+  std::uint8_t* diagonal_ = nullptr;
 };
 
 /// An "other" vertex is usually on the open boundary a few steps beyond the neighbours
@@ -181,55 +271,41 @@ std::uint32_t walk_find(const Region& region, std::uint32_t u, std::uint32_t v, 
 /// The growth procedure shared by encoder and decoder; the Driver supplies the decisions
 /// (the encoder reads them off the input and codes them, the decoder reads them from the
 /// stream), so both sides build the same table by construction.
-template <class Driver>
-void grow(Driver& d, std::size_t n_triangles, GrowHints hints, bool polygons,
-          Traversal traversal, CornerTable& out, Scratch& scratch) {
-  out.vertex.clear();
-  reserve_huge(out.vertex, 3 * n_triangles);
-  out.opposite.clear();
-  reserve_huge(out.opposite, 3 * n_triangles);
-  out.diagonal.clear();
-  if (polygons) out.diagonal.reserve(3 * n_triangles);
+///
+/// The traversal and the polygon flag are template parameters: as run-time flags they were
+/// tested on every gate (the decoder ran 1% more instructions).
+template <Traversal kTraversal, bool kPolygons, class Driver>
+void grow_as(Driver& d, std::size_t n_triangles, GrowHints hints, CornerTable& out,
+             Scratch& scratch) {
+  CornerWriter corners(out, n_triangles, kPolygons);
   Region region(n_triangles, hints.vertices, scratch);
-  std::vector<std::uint32_t> stack;
+  GateStack stack(region.stack_block());
 
   auto pair = [&](std::uint32_t a, std::uint32_t b) {
-    out.opposite[a] = b;
-    out.opposite[b] = a;
-    if (polygons) {
-      const std::uint8_t diag = d.diagonal(a, b);
-      out.diagonal[a] = out.diagonal[b] = diag;
-    }
+    corners.pair(a, b);
+    if constexpr (kPolygons) corners.set_diagonal(a, b, d.diagonal(a, b));
   };
   auto add_triangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    const auto t = static_cast<std::uint32_t>(out.vertex.size() / 3);
-    // push_back, not insert of an initializer list: that copies through a generic range
-    // insert, a tenth of the encoder's traversal time.
-    out.vertex.push_back(a);
-    out.vertex.push_back(b);
-    out.vertex.push_back(c);
-    for (int j = 0; j < 3; ++j) out.opposite.push_back(kNone);
     region.add_corner(a);
     region.add_corner(b);
     region.add_corner(c);
-    if (polygons)
-      for (int j = 0; j < 3; ++j) out.diagonal.push_back(0);
-    return t;
+    return corners.add(a, b, c);
   };
-  // Zip edge from→to (opposite corner k) with the open reverse gate, or open a new gate.
-  // fresh: one end is a vertex the triangle just added, so no gate can touch it.
-  auto attach = [&](std::uint32_t from, std::uint32_t to, std::uint32_t k, bool fresh = false) {
-    const std::uint32_t g = fresh ? kNone : region.find(to, from);
-    if (g != kNone) {
-      d.check_zip(k, region.gate(g).corner);
-      pair(k, region.gate(g).corner);
-      region.close(g);
+  // Zip edge from→to (opposite corner k) with its open reverse gate `partner`, or, when
+  // there is none (kNone), open a new gate and return it.
+  auto attach = [&](std::uint32_t from, std::uint32_t to, std::uint32_t k,
+                    std::uint32_t partner) {
+    if (partner != kNone) {
+      const std::uint32_t c = region.gate(partner).corner;
+      d.check_zip(k, c);
+      pair(k, c);
+      region.close(partner);
       return kNone;
     }
     return region.open(from, to, k);
   };
 
-  while (out.vertex.size() < 3 * n_triangles) {
+  while (corners.corners() < 3 * n_triangles) {
     d.begin_seed();
     std::uint32_t s[3];
     for (int j = 0; j < 3; ++j) s[j] = d.seed_vertex(j, region);
@@ -238,19 +314,39 @@ void grow(Driver& d, std::size_t n_triangles, GrowHints hints, bool polygons,
     d.on_triangle(t);
     for (int j = 0; j < 3; ++j) {
       const std::uint32_t k = 3 * t + static_cast<std::uint32_t>(j);
-      const std::uint32_t g = attach(out.vertex[next_corner(k)], out.vertex[prev_corner(k)], k);
-      if (g != kNone) stack.push_back(g);
+      const std::uint32_t from = corners.vertex(next_corner(k));
+      const std::uint32_t to = corners.vertex(prev_corner(k));
+      const std::uint32_t g = attach(from, to, k, region.find(to, from));
+      if (g != kNone) stack.push(g);
     }
-    while (!stack.empty()) {
-      const std::uint32_t gid = stack.back();
-      stack.pop_back();
-      // The gate under this one is usually popped next: fetch its record while this one grows.
-      if (!stack.empty()) region.prefetch(stack.back());
-      if (!region.is_open(gid)) continue;
-      const Gate gate = region.gate(gid);
-      const std::uint32_t u = gate.from, v = gate.to;
+    // The gate a step pushes last is the next one popped. It is held here instead, with its
+    // ends, so that the next step starts from registers: no stack round trip, no record read
+    // and no open check on the path from one symbol to the next (nothing closes it between).
+    struct Held {
+      std::uint32_t gate = kNone, from = kNone, to = kNone, corner = kNone;
+      std::uint32_t from_fan = 0, to_fan = 0;  // fan classes of its ends
+    } held;
+    for (;;) {
+      std::uint32_t gid, u, v, gate_corner;
+      unsigned fan_u, fan_v;
+      if (held.gate != kNone) {
+        gid = held.gate, u = held.from, v = held.to, gate_corner = held.corner;
+        fan_u = held.from_fan, fan_v = held.to_fan;
+        held.gate = kNone;
+      } else {
+        if (stack.empty()) break;
+        gid = stack.pop();
+        // The gate under this one is usually popped next: fetch its record while this one grows.
+        if (!stack.empty()) region.prefetch(stack.top());
+        if (!region.is_open(gid)) continue;
+        const Gate& g = region.gate(gid);
+        u = g.from, v = g.to, gate_corner = g.corner;
+        fan_u = region.fan(u), fan_v = region.fan(v);
+      }
+      // The drivers read the record (open until the close below); the loop keeps its fields.
+      const Gate& gate = region.gate(gid);
       const std::uint32_t right = region.after(v), left = region.before(u);
-      const unsigned ctx = (region.fan(v) * kFanClasses + region.fan(u)) * 4 +
+      const unsigned ctx = (fan_v * kFanClasses + fan_u) * 4 +
                            (right != kNone ? 2 : 0) + (left != kNone ? 1 : 0);
       std::uint32_t w = kNone;
       const unsigned sym = d.gate_symbol(ctx, gate, right, left, region, w);
@@ -260,30 +356,66 @@ void grow(Driver& d, std::size_t n_triangles, GrowHints hints, bool polygons,
       }
       if (w == u || w == v) d.fail("grown triangle repeats a gate vertex");
       // Bounds the gates too (at most one per corner), which live in a block of fixed size.
-      if (out.vertex.size() >= 3 * n_triangles) d.fail("more triangles than the stream's count");
+      if (corners.corners() >= 3 * n_triangles) d.fail("more triangles than the stream's count");
       region.close(gid);
-      const std::uint32_t nt = add_triangle(v, u, w);
+      // The new corner counts (as fan classes) also go with the held gate: read back from the
+      // records by the next step, they were a store-to-load round trip on the path to its
+      // symbol (the connectivity decode alone 2-3% slower).
+      const unsigned fv = Region::fan_class(region.add_corner(v));
+      const unsigned fu = Region::fan_class(region.add_corner(u));
+      const unsigned fw = Region::fan_class(region.add_corner(w));
+      const std::uint32_t nt = corners.add(v, u, w);
       d.on_triangle(nt);
-      pair(3 * nt + 2, gate.corner);
-      // New edges: u→w (opposite corner v) and w→v (opposite corner u).
-      std::uint32_t ga, gb;
-      const bool fresh = sym == kNew;
-      if (traversal == Traversal::kRightFirst) {
-        gb = attach(w, v, 3 * nt + 1, fresh);
-        ga = attach(u, w, 3 * nt + 0, fresh);
-        if (gb != kNone) stack.push_back(gb);
-        if (ga != kNone) stack.push_back(ga);
+      pair(3 * nt + 2, gate_corner);
+      // New edges: u→w (opposite corner v) and w→v (opposite corner u), each zipped with its
+      // reverse gate if open. A new vertex has no gates. R (w after v) zips w→v with v→w, the
+      // head of v's outgoing list; L (w before u) zips u→w with w→u, the head of u's incoming
+      // list: the gates find() would return, without the walk. The other edge is searched
+      // when its turn comes, after the first edge's zip.
+      auto partner_wv = [&] {
+        return sym == kNew ? kNone : sym == kRight ? region.first_out(v) : region.find(v, w);
+      };
+      auto partner_uw = [&] {
+        return sym == kNew ? kNone : sym == kLeft ? region.first_in(u) : region.find(w, u);
+      };
+      // Push the first-explored gate last, that is, hold it (see Held).
+      if constexpr (kTraversal == Traversal::kRightFirst) {
+        const std::uint32_t gb = attach(w, v, 3 * nt + 1, partner_wv());
+        const std::uint32_t ga = attach(u, w, 3 * nt + 0, partner_uw());
+        if (ga != kNone) {
+          if (gb != kNone) stack.push(gb);
+          held = {ga, u, w, 3 * nt + 0, fu, fw};
+        } else if (gb != kNone) {
+          held = {gb, w, v, 3 * nt + 1, fw, fv};
+        }
       } else {
-        ga = attach(u, w, 3 * nt + 0, fresh);
-        gb = attach(w, v, 3 * nt + 1, fresh);
-        if (ga != kNone) stack.push_back(ga);
-        if (gb != kNone) stack.push_back(gb);
+        const std::uint32_t ga = attach(u, w, 3 * nt + 0, partner_uw());
+        const std::uint32_t gb = attach(w, v, 3 * nt + 1, partner_wv());
+        if (gb != kNone) {
+          if (ga != kNone) stack.push(ga);
+          held = {gb, w, v, 3 * nt + 1, fw, fv};
+        } else if (ga != kNone) {
+          held = {ga, u, w, 3 * nt + 0, fu, fw};
+        }
       }
     }
   }
   out.n_vertices = region.n_vertices();
   out.corners_of.clear();
   if (hints.count_corners) region.corner_counts(out.corners_of);
+}
+
+template <class Driver>
+void grow(Driver& d, std::size_t n_triangles, GrowHints hints, bool polygons,
+          Traversal traversal, CornerTable& out, Scratch& scratch) {
+  using enum Traversal;
+  const std::size_t t = n_triangles;
+  if (traversal == kRightFirst)
+    polygons ? grow_as<kRightFirst, true>(d, t, hints, out, scratch)
+             : grow_as<kRightFirst, false>(d, t, hints, out, scratch);
+  else
+    polygons ? grow_as<kLeftFirst, true>(d, t, hints, out, scratch)
+             : grow_as<kLeftFirst, false>(d, t, hints, out, scratch);
 }
 
 class Encoder {
@@ -489,7 +621,7 @@ class Decoder {
 }  // namespace
 
 std::size_t connectivity_scratch_bytes(std::size_t n_triangles) {
-  return (max_gates_for(n_triangles) + 1) * sizeof(Gate);
+  return gate_bytes(n_triangles) + max_gates_for(n_triangles) * sizeof(std::uint32_t);
 }
 
 void encode_connectivity(const CornerTable& input, bool polygons, Traversal traversal,

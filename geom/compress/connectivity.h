@@ -69,8 +69,8 @@ struct GrowHints {
   bool count_corners = false;
 };
 
-/// Rebuild the corner table of n_triangles triangles from the streams. Its gates live in
-/// `scratch` (a block of its own when null), dead on return.
+/// Rebuild the corner table of n_triangles triangles from the streams. Its gates (records
+/// and stack) live in `scratch` (a block of its own when null), dead on return.
 /// Throws: DecodeError (with the byte offset) on truncated or inconsistent data.
 /// Complexity: O(T).
 void decode_connectivity(std::size_t n_triangles, bool polygons, Traversal traversal,
