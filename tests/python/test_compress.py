@@ -166,18 +166,26 @@ def read_obj(path):
     return {k: np.array(v) for k, v in rows.items()}, faces
 
 
-def test_cli_normals_and_texcoords_round_trip_in_order(run, tmp_path):
+def _torus_ply_with_normals_and_uvs(path):
+    """A torus written as PLY with per-vertex normals (not unit length) and UVs; returns the
+    mesh, the unit normals and the UVs."""
     mesh = torus(16, 8)
     v = mesh.vertices
     n = v - np.c_[v[:, :2] / np.linalg.norm(v[:, :2], axis=1)[:, None], np.zeros(len(v))]
     uv = np.c_[np.arctan2(v[:, 1], v[:, 0]), 2 * v[:, 2]]
-    src = tmp_path / "t.ply"
     header = ["ply", "format ascii 1.0", f"element vertex {len(v)}"] + [
         f"property double {c}" for c in ("x", "y", "z", "nx", "ny", "nz", "s", "t")] + [
         f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
     body = [" ".join(repr(float(x)) for x in row) for row in np.c_[v, n, uv]]
     body += ["3 " + " ".join(str(i) for i in f) for f in np.asarray(mesh.faces)]
-    src.write_text("\n".join(header + body) + "\n")
+    path.write_text("\n".join(header + body) + "\n")
+    return mesh, n / np.linalg.norm(n, axis=1)[:, None], uv
+
+
+def test_cli_normals_and_texcoords_round_trip_in_order(run, tmp_path):
+    src = tmp_path / "t.ply"
+    mesh, n_in, uv = _torus_ply_with_normals_and_uvs(src)
+    v = mesh.vertices
     gmc, back = tmp_path / "t.gmc", tmp_path / "back.obj"
     r = run("compress", src, gmc, "--preserve-order", "--normal-bits", "12", "--json")
     assert r.returncode == 0, r.stderr
@@ -187,7 +195,6 @@ def test_cli_normals_and_texcoords_round_trip_in_order(run, tmp_path):
     rows, faces = read_obj(back)
     assert faces == [list(f) for f in np.asarray(mesh.faces)]
     assert rows["vn"].shape == (len(v), 3) and rows["vt"].shape == (len(v), 2)
-    n_in = n / np.linalg.norm(n, axis=1)[:, None]
     cos = np.clip((n_in * rows["vn"]).sum(axis=1), -1, 1)
     assert np.arccos(cos).max() <= 4.5 / 2 ** 12
     uv_bound = 0.5 * (uv.max(axis=0) - uv.min(axis=0)).max() / (2 ** 12 - 1)
@@ -284,18 +291,9 @@ def test_decompress_arrays_match_the_mesh_decode():
 
 
 def test_decompress_arrays_return_normals_and_texcoords(tmp_path):
-    mesh = torus(16, 8)
-    v = mesh.vertices
-    n = v - np.c_[v[:, :2] / np.linalg.norm(v[:, :2], axis=1)[:, None], np.zeros(len(v))]
-    n /= np.linalg.norm(n, axis=1)[:, None]
-    uv = np.c_[np.arctan2(v[:, 1], v[:, 0]), 2 * v[:, 2]]
     src = tmp_path / "t.ply"
-    header = ["ply", "format ascii 1.0", f"element vertex {len(v)}"] + [
-        f"property double {c}" for c in ("x", "y", "z", "nx", "ny", "nz", "s", "t")] + [
-        f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
-    body = [" ".join(repr(float(x)) for x in row) for row in np.c_[v, n, uv]]
-    body += ["3 " + " ".join(str(i) for i in f) for f in np.asarray(mesh.faces)]
-    src.write_text("\n".join(header + body) + "\n")
+    mesh, n, uv = _torus_ply_with_normals_and_uvs(src)
+    v = mesh.vertices
     data, perm = geom.compress(geom.load(src), normal_bits=12, return_permutation=True)
     arrays = geom.decompress_arrays(data)
     assert arrays.normals.shape == (len(v), 3) and arrays.texcoords.shape == (len(v), 2)
