@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -21,7 +22,8 @@ using geom::detail::reserve_huge;
 namespace {
 
 /// What a corner k of vertex v contributes: a = vertex(next(k)), b = vertex(prev(k)) and
-/// c = vertex(opposite(k)) (kNone on a boundary). The decoder keeps each vertex's wedges
+/// c = vertex(opposite(k)) (on a boundary the table's vertex count, whose slot is never
+/// taken, so that c is read without a test). The decoder keeps each vertex's wedges
 /// contiguous (ascending corner order), one run per vertex instead of three scattered
 /// corner lookups per corner.
 struct Wedge {
@@ -29,13 +31,14 @@ struct Wedge {
 };
 
 /// What the degree pass asks about a vertex (table numbering) at every wedge end: its place
-/// in the traversal (kNone until taken), its degree and residual length. Its grid point is
-/// q[order] and its wedges' extent is kept apart: the records are read at random, and 8
-/// bytes instead of 24 keep three times as many in cache, while q in traversal order is
-/// mostly read near its recent end.
+/// in the traversal (kNone until taken) and its degree. Its grid point is q[order], its
+/// residual length is kept by place and its wedges' extent apart: the records are read at
+/// random, and 8 bytes instead of 24 keep three times as many in cache, while q in traversal
+/// order is mostly read near its recent end. The records hold only what the traversal
+/// writes, never what the coding does (see rlen1 in degree_pass_as).
 struct Slot {
   std::uint32_t order;
-  std::uint8_t degree, rlen;
+  std::uint8_t degree;
 };
 
 /// The degree pass's scratch block: a wedge per corner, then a record per vertex.
@@ -76,6 +79,17 @@ struct BlendProbe {
   }
 };
 
+/// predict_select, kept out of the encoder's pass: inlined there, GCC 12 takes its ranking
+/// for a read of uninitialised values (-Wmaybe-uninitialized); the encoder's subset search
+/// costs far more than the call.
+template <class Coder>
+[[gnu::noinline]] QPoint predict_select_outlined(Coder& coder, std::uint32_t v,
+                                                 std::int64_t (&cand)[kMaxSelect][3],
+                                                 std::int64_t (&cand_ends)[kMaxSelect][3],
+                                                 unsigned count, unsigned activity, Blend blend) {
+  return predict_select(coder, v, cand, cand_ends, count, activity, blend);
+}
+
 /// The degree-order traversal with prediction and residual coding fused (see
 /// decode_positions_degree); Coder is ResidualReader or ResidualWriter. q (table numbering
 /// on entry for the writer) receives the grid points in the new order.
@@ -94,7 +108,9 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   const std::size_t n_corners = t.vertex.size();
   scratch.reserve(degree_scratch_bytes(n_corners, nc));
   Wedge* const wedge = scratch.array<Wedge>(0, n_corners);  // every one written below
-  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), nc);
+  // Slot nc stands for a boundary's missing opposite vertex: never taken.
+  Slot* const slot = scratch.array<Slot>(slots_at(n_corners), std::size_t{nc} + 1);
+  slot[nc] = Slot{kNone, 0};
   // Vertex v's wedges are wedge[end[v], end[v + 1]).
   std::vector<std::uint32_t> end = std::move(t.corners_of);
   t.corners_of.clear();
@@ -113,7 +129,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
       }
       run = 0;
       for (std::uint32_t v = 0; v < nc; ++v) {
-        slot[v] = Slot{kNone, 0, 0};
+        slot[v] = Slot{kNone, 0};
         run += std::exchange(cursor[v], run);
       }
       if (run == n_corners || recount) break;
@@ -128,9 +144,9 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
       for (std::size_t c = 0; c < n_corners; c += 3) {
         const std::uint32_t v0 = vx[c], v1 = vx[c + 1], v2 = vx[c + 2];
         const std::uint32_t o0 = op[c], o1 = op[c + 1], o2 = op[c + 2];
-        wedge[at[v0]++] = {v1, v2, o0 == kNone ? kNone : vx[o0]};
-        wedge[at[v1]++] = {v2, v0, o1 == kNone ? kNone : vx[o1]};
-        wedge[at[v2]++] = {v0, v1, o2 == kNone ? kNone : vx[o2]};
+        wedge[at[v0]++] = {v1, v2, o0 == kNone ? nc : vx[o0]};
+        wedge[at[v1]++] = {v2, v0, o1 == kNone ? nc : vx[o1]};
+        wedge[at[v2]++] = {v0, v1, o2 == kNone ? nc : vx[o2]};
         if constexpr (decltype(list_open)::value)
           for (std::uint32_t k = 0; k < 3; ++k)
             if (op[c + k] == kNone) open_corners->push_back(static_cast<std::uint32_t>(c + k));
@@ -141,14 +157,31 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     else
       scatter(std::false_type{});
   }
-  std::vector<std::uint32_t> bucket[kTop + 1];
-  for (auto& b : bucket) b.reserve(nc);
+  // Stacks of vertices by degree, bucket[d][0, top[d]), stale entries skipped when popped.
+  // A bump that raises nothing stores to its degree's top without counting it, so each
+  // stack keeps a spare entry; degree 0 (never pushed to) is that entry alone.
+  std::unique_ptr<std::uint32_t[]> stacks[kTop + 1];
+  std::uint32_t* bucket[kTop + 1] = {};
+  std::size_t top[kTop + 1] = {}, room[kTop + 1] = {};
+  auto widen = [&](unsigned d, std::size_t want) {
+    std::unique_ptr<std::uint32_t[]> wider(new std::uint32_t[want]);  // pages touched as used
+    std::copy_n(bucket[d], top[d], wider.get());
+    stacks[d] = std::move(wider);
+    bucket[d] = stacks[d].get();
+    room[d] = want;
+  };
+  for (unsigned d = 0; d <= kTop; ++d) widen(d, d == 0 ? 1 : std::size_t{nc} + 1);
   std::vector<std::uint32_t> seq(nc);
   std::uint32_t seed = 0;
-  auto bump = [&](std::uint32_t x) {
+  // Raises x (and pushes it) if `raise`, else stores back what it loaded: no branch on
+  // which wedge ends are taken, a coin toss to the predictor whose misses would also flush
+  // the coding running alongside.
+  auto bump = [&](std::uint32_t x, bool raise) {
     Slot& sx = slot[x];
-    if (sx.degree < kTop) ++sx.degree;
-    bucket[sx.degree].push_back(x);
+    const unsigned d = sx.degree + unsigned{raise && sx.degree < kTop};
+    sx.degree = static_cast<std::uint8_t>(d);
+    bucket[d][top[d]] = x;
+    top[d] += raise;
     // x's wedges (six 12-byte records on average, at least one: x ends a wedge) usually
     // span two cache lines.
     __builtin_prefetch(wedge + end[x]);
@@ -156,7 +189,17 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     // The writer reads x's true point when it takes x, usually soon.
     if constexpr (requires { reader.truth(x); }) __builtin_prefetch(&reader.truth(x));
   };
-  unsigned last_rlen = 0;
+  // The untaken vertex with the most complete triangles (the last pushed among equals).
+  auto pick = [&] {
+    for (unsigned d = kTop; d > 0; --d) {  // nothing is pushed at degree 0
+      while (top[d] > 0) {
+        const std::uint32_t x = bucket[d][--top[d]];
+        if (slot[x].order == kNone && slot[x].degree == d) return x;
+      }
+    }
+    while (slot[seed].order != kNone) ++seed;
+    return seed;
+  };
   if (plan) {
     plan->steps.clear();
     plan->steps.reserve(nc);
@@ -165,29 +208,30 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   }
   reserve_huge(q, n);
   q.resize(n);
+  // A vertex's complete parallelograms, as the places of their corners a, b, c: gathered
+  // without a branch while its wedges are scanned, summed after.
+  struct Tri {
+    std::uint32_t a, b, c;
+  };
+  std::vector<Tri> tri(16);
+  // Residual lengths by place + 1 (kNone + 1 wraps to 0, an entry that stays 0), kept out of
+  // the slots: a length is stored only when its vertex's residuals are decoded, and the next
+  // vertex's scan loads the same slots (v is usually its neighbour), so with the length in
+  // the record the traversal waited for the rANS chain; apart, the two overlap.
+  std::vector<std::uint8_t> rlen1(std::size_t{nc} + 1, 0);
+  unsigned last_rlen = 0;
   for (std::uint32_t i = 0; i < nc; ++i) {
-    std::uint32_t v = kNone;
-    for (int d = kTop; d >= 0 && v == kNone; --d) {
-      auto& b = bucket[d];
-      while (!b.empty()) {
-        const std::uint32_t x = b.back();
-        b.pop_back();
-        if (slot[x].order == kNone && slot[x].degree == d) {
-          v = x;
-          break;
-        }
-      }
-    }
-    if (v == kNone) {
-      while (slot[seed].order != kNone) ++seed;
-      v = seed;
-    }
+    const std::uint32_t v = pick();
     // Predict from the vertices already taken (exactly decode_positions' rule on the
     // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
     const Wedge* w_begin = wedge + end[v];
     const Wedge* w_end = wedge + end[v + 1];
-    std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
-    std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
+    // Room for a push per wedge (and the spare entry), and a parallelogram per wedge.
+    const auto n_wedges = static_cast<std::size_t>(w_end - w_begin);
+    for (unsigned d = 1; d <= kTop; ++d)
+      if (room[d] - top[d] <= n_wedges) [[unlikely]] widen(d, 2 * room[d] + n_wedges);
+    if (n_wedges > tri.size()) [[unlikely]] tri.resize(n_wedges);
+    Tri* const tri_out = tri.data();
     unsigned count = 0, act_sum = 0, act_n = 0;
     for (const Wedge* we = w_begin; we != w_end; ++we) {
       const Slot& sa = slot[we->a];
@@ -197,35 +241,38 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
         if (da) plan->act.push_back(sa.order);
         if (db) plan->act.push_back(sb.order);
       }
-      // Selects, not branches: which ends are taken is a coin toss to the branch predictor.
-      act_sum += (da ? sa.rlen : 0u) + (db ? sb.rlen : 0u);
+      act_sum += unsigned{rlen1[sa.order + 1]} + rlen1[sb.order + 1];
       act_n += unsigned{da} + unsigned{db};
       // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
       // so raising here, before v is taken, pushes the same vertices in the same order.
-      if (da != db) {
-        bump(da ? we->b : we->a);
-        continue;
-      }
-      if (!da || we->c == kNone) continue;
+      bump(da ? we->b : we->a, da != db);
+      // A complete parallelogram: a, b and the opposite vertex c taken.
       const std::uint32_t oc = slot[we->c].order;
-      if (oc == kNone) continue;
-      const QPoint &qa = q[sa.order], &qb = q[sb.order], &qc = q[oc];
+      tri_out[count] = {sa.order, sb.order, oc};
+      count += unsigned{da && db && oc != kNone};
+    }
+    std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
+    std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
+    for (unsigned k = 0; k < count; ++k) {
+      const QPoint &qa = q[tri_out[k].a], &qb = q[tri_out[k].b], &qc = q[tri_out[k].c];
       for (int x = 0; x < 3; ++x) {
         const std::int64_t ab = std::int64_t{qa[x]} + std::int64_t{qb[x]};
         sum[x] += ab - std::int64_t{qc[x]};
         ends[x] += ab;  // predictor 4's centroid: the parallelograms' shared edges
-        if (select && count < kMaxSelect) {
-          cand[count][x] = ab - std::int64_t{qc[x]};
-          cand_ends[count][x] = ab;
+        if (select && k < kMaxSelect) {
+          cand[k][x] = ab - std::int64_t{qc[x]};
+          cand_ends[k][x] = ab;
         }
       }
-      ++count;
     }
     const unsigned activity = act_n ? (act_sum + act_n / 2) / act_n : last_rlen;
     QPoint p{0, 0, 0};
     std::uint32_t neighbour = kNone, neighbour_order = 0;
     if (select && count >= 2) {
-      p = predict_select(reader, v, cand, cand_ends, count, activity, blend);
+      if constexpr (kWriter)
+        p = predict_select_outlined(reader, v, cand, cand_ends, count, activity, blend);
+      else
+        p = predict_select(reader, v, cand, cand_ends, count, activity, blend);
     } else if (count > 0) {
       const unsigned k = count == 1 ? blend.one : blend.many;
       if (k == 0) {
@@ -252,17 +299,14 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
       st.fallback = count == 0 && neighbour != kNone ? slot[neighbour].order : kNone;
       st.act_begin = static_cast<std::uint32_t>(plan->act.size() - (act_n));
     }
-    Slot& sv = slot[v];
-    last_rlen = code(reader, v, p, count, activity, q[i].data());  // in traversal order
-    sv.rlen = static_cast<std::uint8_t>(last_rlen);
-    sv.order = i;
+    slot[v].order = i;
     seq[i] = v;
+    last_rlen = code(reader, v, p, count, activity, q[i].data());  // in traversal order
+    rlen1[i + 1] = static_cast<std::uint8_t>(last_rlen);
   }
   {
-    // Renumber through a dense map (half the records' size, so more of it stays in cache).
-    std::uint32_t* const new_id = scratch.array<std::uint32_t>(0, nc);  // over the dead wedges
-    for (std::uint32_t i = 0; i < nc; ++i) new_id[seq[i]] = i;
-    for (std::uint32_t& v : t.vertex) v = new_id[v];
+    // Renumber through the slots' places.
+    for (std::uint32_t& v : t.vertex) v = slot[v].order;
   }
   code_isolated(reader, q, nc, anchored, last_rlen, seq);
   return seq;
@@ -283,7 +327,7 @@ std::vector<std::uint32_t> degree_pass(CornerTable& t, std::size_t n, Coder& cod
 }  // namespace
 
 std::size_t degree_scratch_bytes(std::size_t n_corners, std::size_t n_vertices) {
-  return slots_at(n_corners) + n_vertices * sizeof(Slot);
+  return slots_at(n_corners) + (n_vertices + 1) * sizeof(Slot);
 }
 
 std::vector<std::uint32_t> decode_positions_degree(CornerTable& table, std::size_t n, unsigned bits,
