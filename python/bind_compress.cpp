@@ -28,11 +28,11 @@ py::bytes bytes_object(const std::vector<std::uint8_t>& b) {
 
 /// The vector as an n×width numpy array that owns it (no copy: a decoded 1M-triangle mesh's
 /// arrays are tens of megabytes); None when it is empty and `none_if_empty`.
-template <class T>
-py::object owning_array(std::vector<T>&& v, py::ssize_t width, bool none_if_empty) {
+template <class T, class A>
+py::object owning_array(std::vector<T, A>&& v, py::ssize_t width, bool none_if_empty) {
   if (v.empty() && none_if_empty) return py::none();
-  auto* owner = new std::vector<T>(std::move(v));
-  py::capsule free_owner(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  auto* owner = new std::vector<T, A>(std::move(v));
+  py::capsule free_owner(owner, [](void* p) { delete static_cast<std::vector<T, A>*>(p); });
   const py::ssize_t rows = static_cast<py::ssize_t>(owner->size()) / width;
   return py::array_t<T>({rows, width}, {width * py::ssize_t(sizeof(T)), py::ssize_t(sizeof(T))},
                         owner->data(), free_owner);

@@ -15,6 +15,7 @@
 
 #include <geom/compress/rans.h>
 #include <geom/compress/scratch.h>
+#include <geom/core/huge_pages.h>
 
 #include <cstdint>
 #include <vector>
@@ -27,7 +28,9 @@ inline constexpr std::uint32_t kNone = 0xffffffffu;
 /// edge opposite c runs from vertex[next(c)] to vertex[prev(c)].
 struct CornerTable {
   std::uint32_t n_vertices = 0;
-  std::vector<std::uint32_t> vertex;    ///< per corner
+  /// Per corner. Not cleared when sized: every writer fills what it sizes (the decoders'
+  /// tables become flat outputs, moved, not copied).
+  geom::detail::UninitialisedVector<std::uint32_t> vertex;
   std::vector<std::uint32_t> opposite;  ///< per corner; kNone across a boundary edge
   /// Per corner, 1 when the edge opposite is a polygon diagonal (empty: all triangles).
   std::vector<std::uint8_t> diagonal;

@@ -9,6 +9,9 @@
 /// contents and behaviour never change, and on other systems they do nothing.
 
 #include <cstddef>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 namespace geom::detail {
@@ -29,9 +32,35 @@ void advise_huge_pages(const void* data, std::size_t bytes) noexcept;
 /// so it pays in a cold process as much as in a warm one. A hint only, like the above.
 void prefault(void* data, std::size_t bytes) noexcept;
 
-/// v.reserve(n), with the hint on the new capacity when it is large.
+/// An allocator whose value-less construct() leaves the element uninitialised, so that
+/// resize() of a buffer about to be overwritten whole does not clear it first: decoders'
+/// outputs, written once in full (for a 1M-triangle mesh, 18 MB not written twice).
 template <class T>
-void reserve_huge(std::vector<T>& v, std::size_t n) {
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <class U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// A vector whose resize() without a value leaves the new elements uninitialised.
+template <class T>
+using UninitialisedVector = std::vector<T, UninitialisedAllocator<T>>;
+
+/// v.reserve(n), with the hint on the new capacity when it is large.
+template <class T, class A>
+void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   v.reserve(n);
   const std::size_t bytes = v.capacity() * sizeof(T);
   if (bytes >= kHugePageMinBytes) advise_huge_pages(v.data(), bytes);

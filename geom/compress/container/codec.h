@@ -9,6 +9,7 @@
 /// compression", GI 1998; J. Duda, "Asymmetric numeral systems", 2013; the Draco and
 /// meshoptimizer codecs (format discipline: versioned header, bounds-checked decoding).
 
+#include <geom/core/huge_pages.h>
 #include <geom/core/surface_mesh.h>
 
 #include <cstddef>
@@ -150,9 +151,11 @@ namespace codec {
 /// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
 /// positions (xyz per decoded vertex) and triangle indices (polygon meshes come back fanned);
 /// normals (xyz) and texcoords (uv) per decoded vertex when the stream has them, else empty.
+/// positions and triangles are vectors whose resize() does not clear (the decoder writes
+/// them whole).
 struct FlatDecode {
-  std::vector<float> positions;
-  std::vector<std::uint32_t> triangles;
+  geom::detail::UninitialisedVector<float> positions;
+  geom::detail::UninitialisedVector<std::uint32_t> triangles;
   std::vector<float> normals;
   std::vector<float> texcoords;
 };

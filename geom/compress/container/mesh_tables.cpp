@@ -156,7 +156,7 @@ Polygons reassemble(const CornerTable& t, std::uint64_t where) {
   const std::size_t nt = t.n_triangles();
   out.offset.push_back(0);
   if (t.diagonal.empty()) {
-    out.vertex = t.vertex;
+    out.vertex.assign(t.vertex.begin(), t.vertex.end());
     out.offset.resize(nt + 1);
     out.first_triangle.resize(nt);
     for (std::uint32_t i = 0; i < nt; ++i) {
