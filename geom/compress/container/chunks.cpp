@@ -316,15 +316,14 @@ CompressResult write_chunked(std::vector<Chunk>& chunks, const Streams& merges,
 // ---- decoder ------------------------------------------------------------------------------
 
 /// Decodes chunk k, naming offsets in the whole stream.
-Core decode_chunk(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> chunk,
-                  std::size_t k) {
+void decode_chunk(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> chunk,
+                  std::size_t k, Core& core, Scratch& scratch) {
   const auto base = static_cast<std::uint64_t>(chunk.data() - bytes.data());
   try {
-    Core core = decode_core(chunk, /*open_corners=*/true);
+    decode_core_into(chunk, core, scratch, /*open_corners=*/true);
     const std::uint8_t extras = kFlagPreserveOrder | kFlagNormals | kFlagTexcoords | kFlagExtension;
     if (core.h.flags & extras)
       throw DecodeError(5, "a chunk may not carry attributes or an order section");
-    return core;
   } catch (const DecodeError& e) {
     const std::string what = e.what();
     const std::size_t colon = what.find(": ");
@@ -577,22 +576,23 @@ namespace {
 
 /// Every chunk decoded (in parallel), checked against the others, and numbered globally.
 struct DecodedChunks {
-  std::vector<Core> cores;
+  std::vector<Core>& cores;  // the workspace's
   std::vector<std::vector<std::uint32_t>> global;  // per chunk: its vertices' global numbers
   std::vector<std::uint32_t> first;  // per chunk: its first own (unmerged) global number
   std::uint32_t total = 0;
   std::uint64_t where = 0;  // chunk 0's offset, for errors about the merged mesh
 };
 
-DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes) {
+DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) {
   const ChunkedLayout l = read_layout(bytes);
-  DecodedChunks d;
+  DecodedChunks d{ws.cores};
   d.cores.resize(l.chunks.size());
+  if (ws.scratch.size() < d.cores.size()) ws.scratch.resize(d.cores.size());
   std::vector<std::vector<std::uint32_t>> ranked(d.cores.size());
   std::vector<std::exception_ptr> failed(d.cores.size());
   tbb::parallel_for(std::size_t{0}, d.cores.size(), [&](std::size_t k) {
     try {
-      d.cores[k] = decode_chunk(bytes, l.chunks[k], k);
+      decode_chunk(bytes, l.chunks[k], k, d.cores[k], ws.scratch[k]);
       const Core& c = d.cores[k];
       ranked[k] = ranked_boundary(
           table_boundary(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q);
@@ -612,19 +612,24 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes) {
 }  // namespace
 
 Core decode_chunked(std::span<const std::uint8_t> bytes) {
-  DecodedChunks d = decode_chunks(bytes);
+  Workspace ws;
+  DecodedChunks d = decode_chunks(bytes, ws);
   return merge(d.cores, d.global, d.total, d.where);
 }
 
-FlatDecode decode_chunked_flat(std::span<const std::uint8_t> bytes) {
-  DecodedChunks d = decode_chunks(bytes);
+void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, FlatDecode& out) {
+  DecodedChunks d = decode_chunks(bytes, ws);
   const std::size_t n = d.cores.size();
   std::vector<std::size_t> corner_at(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k) corner_at[k + 1] = corner_at[k] + d.cores[k].table.vertex.size();
-  FlatDecode out;
-  // Clearing the fresh pages is most of the cost of these two: one core each.
-  tbb::parallel_invoke([&] { out.positions.resize(3 * std::size_t{d.total}); },
-                       [&] { out.triangles.resize(corner_at.back()); });
+  // Sized without clearing (every element is written below), in the capacity of out's
+  // previous contents when it has them.
+  out.positions.clear();  // (so that growing copies nothing)
+  out.positions.resize(3 * std::size_t{d.total});
+  out.triangles.clear();
+  out.triangles.resize(corner_at.back());
+  out.normals.clear();
+  out.texcoords.clear();
   const Quantiser& grid = d.cores[0].h.quantiser;  // every chunk's (check_chunks_agree)
   // No merged table: flat output needs no opposites, so the seams are never zipped. Each
   // chunk writes its own corners and its own vertices (merged ones are an earlier chunk's,
@@ -637,7 +642,6 @@ FlatDecode decode_chunked_flat(std::span<const std::uint8_t> bytes) {
     for (std::size_t v = 0; v < c.q.size(); ++v)
       if (g[v] >= d.first[k]) grid.dequantise_into(c.q[v], out.positions.data() + 3 * std::size_t{g[v]});
   });
-  return out;
 }
 
 }  // namespace geom::codec::detail

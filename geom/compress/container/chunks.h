@@ -40,9 +40,10 @@ bool is_chunked(std::span<const std::uint8_t> bytes);
 /// Throws: DecodeError naming the byte offset in `bytes`.
 Core decode_chunked(std::span<const std::uint8_t> bytes);
 
-/// decompress_flat() of a chunked stream: the same vertices and triangles as decode_chunked
-/// gives, without merging the chunks' tables (flat output needs no opposites).
+/// FlatDecoder::decode() of a chunked stream: the same vertices and triangles as
+/// decode_chunked gives, without merging the chunks' tables (flat output needs no
+/// opposites), into out; the chunks' memory is ws's, kept for the next stream.
 /// Throws: DecodeError naming the byte offset in `bytes`.
-FlatDecode decode_chunked_flat(std::span<const std::uint8_t> bytes);
+void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, FlatDecode& out);
 
 }  // namespace geom::codec::detail

@@ -54,9 +54,38 @@ void read_attribute_header(ByteReader& r, Header& h) {
 
 }  // namespace
 
+namespace {
+/// Empties a Core for the next stream, keeping its arrays' capacity.
+void recycle(Core& core) {
+  core.h = {};
+  CornerTable& t = core.table;
+  t.n_vertices = 0;
+  t.vertex.clear();
+  t.opposite.clear();
+  t.diagonal.clear();
+  t.corners_of.clear();
+  core.q.clear();
+  core.normals.clear();
+  core.uvs.clear();
+  core.order_rans = core.order_raw = {};
+  core.order_offset = core.connectivity_offset = 0;
+  core.extension_at = 0;
+  core.open_corners.clear();
+  core.open_corners_known = false;
+}
+}  // namespace
+
 Core codec::detail::decode_core(std::span<const std::uint8_t> bytes, bool open_corners) {
-  ByteReader r(bytes);
   Core core;
+  Scratch scratch;
+  decode_core_into(bytes, core, scratch, open_corners);
+  return core;
+}
+
+void codec::detail::decode_core_into(std::span<const std::uint8_t> bytes, Core& core,
+                                     Scratch& scratch, bool open_corners) {
+  recycle(core);
+  ByteReader r(bytes);
   Header& h = core.h;
   for (std::uint8_t m : kMagic)
     if (r.u8() != m) throw DecodeError(r.offset() - 1, "not a geom compressed mesh (bad magic)");
@@ -137,7 +166,6 @@ Core codec::detail::decode_core(std::span<const std::uint8_t> bytes, bool open_c
   // reuses the pages the connectivity step's gates touched (the counts are bounded above).
   const bool degree = by_degree(h.predictor);
   const auto n_tri = static_cast<std::size_t>(h.n_triangles);
-  Scratch scratch;
   const bool grows = growth(h.predictor);
   scratch.reserve(std::max({connectivity_scratch_bytes(n_tri),
                             degree ? degree_scratch_bytes(3 * n_tri, h.n_vertices) : 0,
@@ -145,7 +173,8 @@ Core codec::detail::decode_core(std::span<const std::uint8_t> bytes, bool open_c
   // The table and the positions are reserved here, before the stages allocate their own
   // arrays (their reserve calls then find the room): in a process that decodes mesh after
   // mesh, the allocator then hands the same blocks back each time instead of fresh pages the
-  // kernel must clear (about 7 % of a repeated decode of the 1M-triangle bench mesh).
+  // kernel must clear (about 7 % of a repeated decode of the 1M-triangle bench mesh), and a
+  // FlatDecoder's core already has the room.
   geom::detail::reserve_huge(core.table.vertex, 3 * n_tri);
   geom::detail::reserve_huge(core.table.opposite, 3 * n_tri);
   geom::detail::reserve_huge(core.q, static_cast<std::size_t>(h.n_vertices));
@@ -194,7 +223,6 @@ Core codec::detail::decode_core(std::span<const std::uint8_t> bytes, bool open_c
   if (h.flags & kFlagTexcoords)
     decode_attribute(core.table, nv, h.uv_quantiser.bits, attr[1][0], base(attr[1][0]),
                      attr[1][1], base(attr[1][1]), core.uvs);
-  return core;
 }
 
 namespace {
@@ -306,24 +334,40 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
 }
 
 namespace codec {
-FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
-  if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes);
-  Core core = decode_core(bytes);
-  FlatDecode out;
+FlatDecoder::FlatDecoder() : ws_(std::make_unique<detail::Workspace>()) {}
+FlatDecoder::~FlatDecoder() = default;
+FlatDecoder::FlatDecoder(FlatDecoder&&) noexcept = default;
+FlatDecoder& FlatDecoder::operator=(FlatDecoder&&) noexcept = default;
+
+void FlatDecoder::decode(std::span<const std::uint8_t> bytes, FlatDecode& out) {
+  if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes, *ws_, out);
+  if (ws_->cores.empty()) ws_->cores.resize(1);
+  if (ws_->scratch.empty()) ws_->scratch.resize(1);
+  Core& core = ws_->cores[0];
+  decode_core_into(bytes, core, ws_->scratch[0]);
+  out.positions.clear();  // (so that growing copies nothing)
   out.positions.resize(3 * core.q.size());
   for (std::size_t i = 0; i < core.q.size(); ++i)
     core.h.quantiser.dequantise_into(core.q[i], out.positions.data() + 3 * i);
-  out.triangles = std::move(core.table.vertex);
+  // The table is the triangles: swapped, so that the table keeps out's old capacity.
+  std::swap(out.triangles, core.table.vertex);
+  out.normals.clear();
   out.normals.reserve(3 * core.normals.size());
   for (const QPoint& q : core.normals) {
     const Normal n = octahedral_dequantise(q, core.h.normal_bits);
     out.normals.insert(out.normals.end(), {float(n.x()), float(n.y()), float(n.z())});
   }
+  out.texcoords.clear();
   out.texcoords.reserve(2 * core.uvs.size());
   for (const QPoint& q : core.uvs) {
     const Point t = core.h.uv_quantiser.dequantise(q);
     out.texcoords.insert(out.texcoords.end(), {float(t.x()), float(t.y())});
   }
+}
+
+FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
+  FlatDecode out;
+  FlatDecoder().decode(bytes, out);
   return out;
 }
 }  // namespace codec

@@ -6,6 +6,7 @@
 #include <geom/compress/connectivity.h>
 #include <geom/compress/predict.h>
 #include <geom/compress/quantise.h>
+#include <geom/compress/scratch.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -44,5 +45,16 @@ struct Core {
 /// open_corners, list them in the Core where that costs no pass of its own.
 /// Throws: DecodeError naming the byte offset (in `bytes`).
 Core decode_core(std::span<const std::uint8_t> bytes, bool open_corners = false);
+/// decode_core() into `core`, whose arrays (and the scratch block) keep their capacity from
+/// an earlier decode: a decoder used stream after stream then writes pages it has already
+/// touched instead of fresh ones the kernel must clear. Whatever core held is replaced.
+void decode_core_into(std::span<const std::uint8_t> bytes, Core& core, Scratch& scratch,
+                      bool open_corners = false);
+
+/// A decoder's memory kept between streams (FlatDecoder): per chunk its Core and scratch.
+struct Workspace {
+  std::vector<Core> cores;
+  std::vector<Scratch> scratch;
+};
 
 }  // namespace geom::codec::detail
