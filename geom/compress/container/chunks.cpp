@@ -587,12 +587,11 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) 
   const ChunkedLayout l = read_layout(bytes);
   DecodedChunks d{ws.cores};
   d.cores.resize(l.chunks.size());
-  if (ws.scratch.size() < d.cores.size()) ws.scratch.resize(d.cores.size());
   std::vector<std::vector<std::uint32_t>> ranked(d.cores.size());
   std::vector<std::exception_ptr> failed(d.cores.size());
   tbb::parallel_for(std::size_t{0}, d.cores.size(), [&](std::size_t k) {
     try {
-      decode_chunk(bytes, l.chunks[k], k, d.cores[k], ws.scratch[k]);
+      decode_chunk(bytes, l.chunks[k], k, d.cores[k], ws.scratch.local());
       const Core& c = d.cores[k];
       ranked[k] = ranked_boundary(
           table_boundary(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q);
@@ -619,15 +618,23 @@ Core decode_chunked(std::span<const std::uint8_t> bytes) {
 
 void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, FlatDecode& out) {
   DecodedChunks d = decode_chunks(bytes, ws);
+  if (ws.one_shot) ws.scratch.clear();
   const std::size_t n = d.cores.size();
   std::vector<std::size_t> corner_at(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k) corner_at[k + 1] = corner_at[k] + d.cores[k].table.vertex.size();
   // Sized without clearing (every element is written below), in the capacity of out's
-  // previous contents when it has them.
-  out.positions.clear();  // (so that growing copies nothing)
-  out.positions.resize(3 * std::size_t{d.total});
-  out.triangles.clear();
-  out.triangles.resize(corner_at.back());
+  // previous contents when it has them (cleared first: growing then copies nothing). Sized
+  // on two threads, so that a one-shot decode's allocations can take the blocks the chunks'
+  // scratch left free in either thread's allocator arena rather than fresh pages.
+  tbb::parallel_invoke(
+      [&] {
+        out.positions.clear();
+        out.positions.resize(3 * std::size_t{d.total});
+      },
+      [&] {
+        out.triangles.clear();
+        out.triangles.resize(corner_at.back());
+      });
   out.normals.clear();
   out.texcoords.clear();
   const Quantiser& grid = d.cores[0].h.quantiser;  // every chunk's (check_chunks_agree)

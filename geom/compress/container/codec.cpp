@@ -339,12 +339,13 @@ FlatDecoder::~FlatDecoder() = default;
 FlatDecoder::FlatDecoder(FlatDecoder&&) noexcept = default;
 FlatDecoder& FlatDecoder::operator=(FlatDecoder&&) noexcept = default;
 
-void FlatDecoder::decode(std::span<const std::uint8_t> bytes, FlatDecode& out) {
-  if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes, *ws_, out);
-  if (ws_->cores.empty()) ws_->cores.resize(1);
-  if (ws_->scratch.empty()) ws_->scratch.resize(1);
-  Core& core = ws_->cores[0];
-  decode_core_into(bytes, core, ws_->scratch[0]);
+namespace {
+void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, FlatDecode& out) {
+  if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes, ws, out);
+  if (ws.cores.empty()) ws.cores.resize(1);
+  Core& core = ws.cores[0];
+  decode_core_into(bytes, core, ws.scratch.local());
+  if (ws.one_shot) ws.scratch.clear();
   out.positions.clear();  // (so that growing copies nothing)
   out.positions.resize(3 * core.q.size());
   for (std::size_t i = 0; i < core.q.size(); ++i)
@@ -364,10 +365,17 @@ void FlatDecoder::decode(std::span<const std::uint8_t> bytes, FlatDecode& out) {
     out.texcoords.insert(out.texcoords.end(), {float(t.x()), float(t.y())});
   }
 }
+}  // namespace
+
+void FlatDecoder::decode(std::span<const std::uint8_t> bytes, FlatDecode& out) {
+  decode_flat(bytes, *ws_, out);
+}
 
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
+  detail::Workspace ws;
+  ws.one_shot = true;
   FlatDecode out;
-  FlatDecoder().decode(bytes, out);
+  decode_flat(bytes, ws, out);
   return out;
 }
 }  // namespace codec
