@@ -218,7 +218,7 @@ Row run_draco(const Flat& f, unsigned bits, int cl) {
     r.decoded_vertices = res.value()->num_points();
   }, 5);
   r.dec = r.dec_flat = dec.cpu;
-  r.dec_flat_wall = r.dec_reuse_wall = dec.wall;  // into the same arrays every time
+  r.dec_flat_wall = dec.wall;  // (its decoder allocates the mesh it returns: no reuse)
   Eigen::Vector3d lo = f.points[0], hi = f.points[0];
   for (const Point& p : f.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   r.max_err = 0.5 * (hi - lo).maxCoeff() / double((1u << bits) - 1);
