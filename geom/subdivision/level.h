@@ -32,11 +32,11 @@ namespace geom::detail::subdiv {
 
 inline constexpr std::uint32_t kNone = 0xffffffffu;
 
-/// An allocator whose resize() leaves new elements uninitialised: every array of a level is
-/// written in full right after it is sized, and zeroing hundreds of megabytes first costs
-/// as much as the refinement itself.
+/// An allocator whose resize() leaves new elements uninitialised (UninitialisedAllocator):
+/// every array of a level is written in full right after it is sized, and zeroing hundreds
+/// of megabytes first costs as much as the refinement itself.
 template <class T>
-struct NoInitAllocator : std::allocator<T> {
+struct NoInitAllocator : UninitialisedAllocator<T> {
   template <class U>
   struct rebind {
     using other = NoInitAllocator<U>;
@@ -44,14 +44,6 @@ struct NoInitAllocator : std::allocator<T> {
   NoInitAllocator() = default;
   template <class U>
   NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
   // Big arrays ask for transparent huge pages: first-touch page faults of 4 KiB pages are a
   // third of the time of a large refinement otherwise.
   T* allocate(std::size_t n) {

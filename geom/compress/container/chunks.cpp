@@ -576,6 +576,7 @@ namespace {
 
 /// Every chunk decoded (in parallel), checked against the others, and numbered globally.
 struct DecodedChunks {
+  explicit DecodedChunks(std::vector<Core>& in) : cores(in) {}
   std::vector<Core>& cores;  // the workspace's
   std::vector<std::vector<std::uint32_t>> global;  // per chunk: its vertices' global numbers
   std::vector<std::uint32_t> first;  // per chunk: its first own (unmerged) global number
@@ -585,7 +586,7 @@ struct DecodedChunks {
 
 DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) {
   const ChunkedLayout l = read_layout(bytes);
-  DecodedChunks d{ws.cores};
+  DecodedChunks d(ws.cores);
   d.cores.resize(l.chunks.size());
   std::vector<std::vector<std::uint32_t>> ranked(d.cores.size());
   std::vector<std::exception_ptr> failed(d.cores.size());
