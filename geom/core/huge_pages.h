@@ -6,7 +6,8 @@
 /// Linux maps 2 MiB pages only into memory that asks (the usual THP "madvise" setting), so
 /// these arrays ask here, in one place; arrays that are filled as soon as they are sized
 /// (SurfaceMesh::resize) have their pages mapped in one call instead (prefault). Hints only:
-/// contents and behaviour never change, and on other systems they do nothing.
+/// contents and behaviour never change, and on other systems they do nothing. Arrays that
+/// are written whole right after sizing can also skip the clearing (UninitialisedVector).
 
 #include <cstddef>
 #include <memory>
