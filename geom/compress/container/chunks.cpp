@@ -26,34 +26,79 @@ struct MergeModels {
   GammaModel count, gap, chunk, target;
 };
 
-/// A chunk's boundary vertices (those on an edge with one triangle in the chunk; every vertex
-/// it shares with another chunk is one), ordered by grid point, ties by number. The order
-/// depends only on the chunk's geometry, not on how its stream numbered the vertices, so
-/// the merge map costs the same whatever configuration a level picks for each chunk.
-std::vector<std::uint32_t> ranked_boundary(std::vector<std::uint32_t> boundary,
-                                           std::span<const QPoint> q) {
-  std::sort(boundary.begin(), boundary.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return q[a] != q[b] ? q[a] < q[b] : a < b;
-  });
-  return boundary;
-}
-
-/// The vertices on the table's boundary, ascending. open_corners: the corners without an
-/// opposite, when known (then the opposites, long out of cache after a chunk's decode, are
+/// The table's edges with one triangle (as vertex pairs). open_corners: the corners without
+/// an opposite, when known (then the opposites, long out of cache after a chunk's decode, are
 /// not scanned again).
-std::vector<std::uint32_t> table_boundary(const CornerTable& t,
-                                          const std::vector<std::uint32_t>* open_corners = nullptr) {
-  std::vector<std::uint8_t> on(t.n_vertices, 0);
-  auto mark = [&](std::uint32_t c) { on[t.vertex[next_corner(c)]] = on[t.vertex[prev_corner(c)]] = 1; };
+using Edges = std::vector<std::array<std::uint32_t, 2>>;
+
+Edges open_edges(const CornerTable& t, const std::vector<std::uint32_t>* open_corners = nullptr) {
+  Edges out;
+  auto add = [&](std::uint32_t c) { out.push_back({t.vertex[next_corner(c)], t.vertex[prev_corner(c)]}); };
   if (open_corners) {
-    for (std::uint32_t c : *open_corners) mark(c);
+    for (std::uint32_t c : *open_corners) add(c);
   } else {
     for (std::uint32_t c = 0; c < t.vertex.size(); ++c)
-      if (t.opposite[c] == kNone) mark(c);
+      if (t.opposite[c] == kNone) add(c);
   }
-  std::vector<std::uint32_t> out;
-  for (std::uint32_t v = 0; v < t.n_vertices; ++v)
-    if (on[v]) out.push_back(v);
+  return out;
+}
+
+/// A boundary vertex's neighbours along the boundary, as sorted grid points: what tells
+/// apart two boundary vertices on one grid point without the stream's numbering. (Along the
+/// boundary only: a polygon's diagonals are never boundary edges, so the ring does not
+/// depend on how the polygon was cut into triangles.)
+using Ring = std::vector<QPoint>;
+
+/// The rings of the vertices in `of` (ascending).
+std::vector<Ring> rings(std::span<const std::uint32_t> of, const Edges& edges, std::span<const QPoint> q) {
+  std::vector<Ring> out(of.size());
+  auto add = [&](std::uint32_t v, std::uint32_t to) {
+    const auto at = std::lower_bound(of.begin(), of.end(), v);
+    if (at != of.end() && *at == v) out[static_cast<std::size_t>(at - of.begin())].push_back(q[to]);
+  };
+  for (const auto& [a, b] : edges) add(a, b), add(b, a);
+  for (Ring& r : out) std::sort(r.begin(), r.end());
+  return out;
+}
+
+/// A chunk's boundary vertices (the ends of its open edges; every vertex it shares with
+/// another chunk is one), ordered by grid point, ties by ring, then by number. Point and
+/// ring depend only on the chunk's geometry and connectivity, not on how its stream
+/// numbered the vertices, so the merge map costs the same whatever configuration a level
+/// picks for each chunk. `still_tied[i]`: ranked[i] and ranked[i + 1] share point and ring
+/// (only their numbers order them).
+struct RankedBoundary {
+  std::vector<std::uint32_t> ranked;
+  std::vector<std::uint8_t> still_tied;
+};
+
+RankedBoundary ranked_boundary(const Edges& edges, std::span<const QPoint> q) {
+  RankedBoundary out;
+  std::vector<std::uint32_t>& b = out.ranked;
+  for (const auto& e : edges) b.insert(b.end(), e.begin(), e.end());
+  std::sort(b.begin(), b.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return q[x] != q[y] ? q[x] < q[y] : x < y;
+  });
+  b.erase(std::unique(b.begin(), b.end()), b.end());  // each vertex ends two open edges or more
+  out.still_tied.assign(b.size(), 0);
+  std::vector<std::uint32_t> tied;  // rare: only a grid coarser than the seam's spacing has any
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+    if (q[b[i]] == q[b[i + 1]]) tied.push_back(b[i]), tied.push_back(b[i + 1]);
+  if (tied.empty()) return out;
+  std::sort(tied.begin(), tied.end());
+  tied.erase(std::unique(tied.begin(), tied.end()), tied.end());
+  const std::vector<Ring> ring = rings(tied, edges, q);
+  const auto ring_of = [&](std::uint32_t v) -> const Ring& {
+    return ring[static_cast<std::size_t>(std::lower_bound(tied.begin(), tied.end(), v) - tied.begin())];
+  };
+  for (std::size_t i = 0; i < b.size();) {
+    std::size_t e = i + 1;
+    while (e < b.size() && q[b[e]] == q[b[i]]) ++e;
+    std::stable_sort(b.begin() + static_cast<std::ptrdiff_t>(i), b.begin() + static_cast<std::ptrdiff_t>(e),
+                     [&](std::uint32_t x, std::uint32_t y) { return ring_of(x) < ring_of(y); });
+    for (std::size_t j = i; j + 1 < e; ++j) out.still_tied[j] = ring_of(b[j]) == ring_of(b[j + 1]);
+    i = e;
+  }
   return out;
 }
 
@@ -180,29 +225,22 @@ void add_isolated(Chunk& c, const FlatMesh& flat) {
   c.flat.table.n_vertices = static_cast<std::uint32_t>(c.flat.positions.size());
 }
 
-/// Whether every vertex that chunks share has a grid point of its own among its chunks'
-/// boundary vertices. The merge map names vertices by their rank in grid point order, which
-/// then does not depend on how a chunk's stream numbers them: it costs the same whichever
-/// configuration a level picks, so levels stay monotonic. With ties (a coarse grid) it
-/// would not, and the mesh is coded as one stream.
+/// Whether every vertex that chunks share has a grid point and ring (ranked_boundary) of its
+/// own among its chunk's boundary vertices, so that the merge map can name it by rank. Not
+/// when two copies of a surface touch, or on a grid far coarser than the seam's spacing:
+/// then the mesh is coded as one stream.
 bool seams_distinct(const std::vector<Chunk>& chunks, std::size_t n_vertices,
                     const Quantiser& grid) {
   std::vector<std::uint8_t> chunks_of(n_vertices, 0);
   for (const Chunk& c : chunks)
     for (std::uint32_t v : c.vertices) chunks_of[v] = static_cast<std::uint8_t>(std::min(chunks_of[v] + 1, 2));
-  std::vector<std::pair<QPoint, bool>> b;
   for (const Chunk& c : chunks) {
-    b.clear();
-    for (std::uint32_t v : table_boundary(c.flat.table))
-      b.push_back({grid.quantise(c.flat.positions[v]), chunks_of[c.vertices[v]] > 1});
-    std::sort(b.begin(), b.end());
-    for (std::size_t i = 0; i < b.size();) {
-      std::size_t e = i + 1;
-      bool shared = b[i].second;
-      for (; e < b.size() && b[e].first == b[i].first; ++e) shared |= b[e].second;
-      if (e - i > 1 && shared) return false;
-      i = e;
-    }
+    std::vector<QPoint> q(c.flat.positions.size());
+    for (std::size_t v = 0; v < q.size(); ++v) q[v] = grid.quantise(c.flat.positions[v]);
+    const RankedBoundary r = ranked_boundary(open_edges(c.flat.table), q);
+    const auto shared = [&](std::size_t i) { return chunks_of[c.vertices[r.ranked[i]]] > 1; };
+    for (std::size_t i = 0; i + 1 < r.ranked.size(); ++i)
+      if (r.still_tied[i] && (shared(i) || shared(i + 1))) return false;
   }
   return true;
 }
@@ -222,9 +260,9 @@ std::vector<std::uint32_t> code_merges(std::vector<Chunk>& chunks, std::size_t n
       q[l] = grid.quantise(c.flat.positions[perm[l]]);
       decoded_of[perm[l]] = l;
     }
-    std::vector<std::uint32_t> boundary;
-    for (std::uint32_t v : table_boundary(c.flat.table)) boundary.push_back(decoded_of[v]);
-    c.ranked = ranked_boundary(std::move(boundary), q);
+    Edges edges = open_edges(c.flat.table);
+    for (auto& e : edges) e = {decoded_of[e[0]], decoded_of[e[1]]};
+    c.ranked = ranked_boundary(edges, q).ranked;
   });
   std::vector<std::uint32_t> first_chunk(n_vertices, kNone), first_local(n_vertices, kNone);
   for (std::uint32_t k = 0; k < chunks.size(); ++k)
@@ -594,8 +632,7 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) 
     try {
       decode_chunk(bytes, l.chunks[k], k, d.cores[k], ws.scratch.local());
       const Core& c = d.cores[k];
-      ranked[k] = ranked_boundary(
-          table_boundary(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q);
+      ranked[k] = ranked_boundary(open_edges(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q).ranked;
     } catch (...) {
       failed[k] = std::current_exception();
     }
