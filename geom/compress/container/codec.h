@@ -52,7 +52,8 @@ struct CompressOptions {
   /// range, 1–30; 0 drops them.
   unsigned attribute_bits = 12;
   /// Meshes of at least twice this many triangles (polygons count as their fans) are split
-  /// into about n_triangles / chunk_triangles spatial chunks, coded as independent streams on
+  /// into spatial chunks (the largest power of two at most n_triangles / chunk_triangles, so
+  /// that they share 2, 4, 8... cores evenly), coded as independent streams on
   /// one grid, which decode (and encode) in parallel: a version 3 stream, about 1 % larger
   /// than one stream on a 1M-triangle mesh. Not with preserve_order, vertex attributes or
   /// per-corner attributes (those meshes are coded as one stream). 0: never; else at least
