@@ -81,7 +81,9 @@ class Region {
     gates_[sentinel_] = {kNone, kNone, kNone, kNone, kNone};
     // Closed meshes have about T/2 vertices; a mesh with boundaries more, which would cost
     // a doubling (twice the records cleared, and copied) unless the caller knows better.
-    vertices_.resize(std::min(std::max(vertex_hint, n_triangles / 2), 3 * n_triangles) + 3);
+    const std::size_t records = std::min(std::max(vertex_hint, n_triangles / 2), 3 * n_triangles) + 3;
+    vertices_.resize(records);
+    corners_.resize(records, 0);
   }
   std::uint32_t add_vertex() { return add_vertex_if(true); }
   /// The id the next vertex gets; it is added only when `take` (no branch on it: the
@@ -89,23 +91,26 @@ class Region {
   std::uint32_t add_vertex_if(bool take) {
     const std::uint32_t id = n_vertices_;
     n_vertices_ += take;
-    if (n_vertices_ == vertices_.size()) [[unlikely]]
+    if (n_vertices_ == vertices_.size()) [[unlikely]] {
       vertices_.resize(2 * vertices_.size());
+      corners_.resize(vertices_.size(), 0);
+    }
     return id;
   }
   std::uint32_t n_vertices() const { return n_vertices_; }
   /// Decoded triangles around v, saturated at kFanClasses − 1.
-  unsigned fan(std::uint32_t v) const { return fan_class(vertices_[v].corners); }
+  unsigned fan(std::uint32_t v) const { return fan_class(corners_[v]); }
   static unsigned fan_class(std::uint32_t corners) {
     return std::min<std::uint32_t>(corners, kFanClasses - 1);
   }
   /// Returns v's new corner count.
-  std::uint32_t add_corner(std::uint32_t v) { return ++vertices_[v].corners; }
-  /// Each vertex's corners (the degree pass's wedge lists are sized by them; counting here,
-  /// in records the growth touches anyway, saves it a scattered pass over every corner).
-  void corner_counts(std::vector<std::uint32_t>& out) const {
+  std::uint32_t add_corner(std::uint32_t v) { return ++corners_[v]; }
+  /// Hands over each vertex's corners (the degree pass's wedge lists are sized by them;
+  /// counting here saves it a scattered pass over every corner): moved, not copied. The
+  /// region keeps no counts after this.
+  void take_corner_counts(geom::detail::UninitialisedVector<std::uint32_t>& out) {
+    out = std::move(corners_);
     out.resize(n_vertices_);
-    for (std::uint32_t v = 0; v < n_vertices_; ++v) out[v] = vertices_[v].corners;
   }
   const Gate& gate(std::uint32_t g) const { return gates_[g]; }
   std::uint32_t* stack_block() const { return stack_; }
@@ -162,10 +167,10 @@ class Region {
   // The lookups of a gate's two ends read one record each, not three arrays, and the
   // boundary neighbours are kept beside the list heads (updated as the heads move), so
   // finding them is not a second, dependent load of an old gate.
+  // 16 bytes: no record straddles two cache lines.
   struct Vertex {
     std::uint32_t out = kNone, in = kNone;  // list heads: newest open gate
     std::uint32_t after = kNone, before = kNone;  // their far ends
-    std::uint32_t corners = 0;  // decoded triangles around the vertex (< 3T, no overflow)
   };
   // kNone (no gate) becomes the sentinel, whose ends are kNone: no branch.
   std::uint32_t real(std::uint32_t g) const { return std::min(g, sentinel_); }
@@ -176,6 +181,9 @@ class Region {
   std::uint32_t n_gates_ = 0;
   std::uint32_t n_vertices_ = 0;
   std::vector<Vertex> vertices_;  // blank past n_vertices_, at least one
+  // Per record of vertices_, the decoded triangles around its vertex (< 3T, no overflow):
+  // apart from the records, so that it becomes CornerTable::corners_of without a copy.
+  geom::detail::UninitialisedVector<std::uint32_t> corners_;
 };
 
 /// The growth's corner arrays, written through raw pointers. They are sized kStep triangles
@@ -402,7 +410,7 @@ void grow_as(Driver& d, std::size_t n_triangles, GrowHints hints, CornerTable& o
   }
   out.n_vertices = region.n_vertices();
   out.corners_of.clear();
-  if (hints.count_corners) region.corner_counts(out.corners_of);
+  if (hints.count_corners) region.take_corner_counts(out.corners_of);
 }
 
 template <class Driver>

@@ -36,8 +36,9 @@ struct CornerTable {
   std::vector<std::uint8_t> diagonal;
   /// Per vertex, its corners, as the connectivity coder counted them while growing the
   /// table (n_vertices entries; the encoder always, the decoder when asked); empty when not
-  /// known. Whatever renumbers or edits the table clears it.
-  std::vector<std::uint32_t> corners_of;
+  /// known. Whatever renumbers or edits the table clears it. Not cleared when sized, like
+  /// vertex.
+  geom::detail::UninitialisedVector<std::uint32_t> corners_of;
   std::size_t n_triangles() const { return vertex.size() / 3; }
 };
 

@@ -112,14 +112,17 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   Slot* const slot = scratch.array<Slot>(slots_at(n_corners), std::size_t{nc} + 1);
   slot[nc] = Slot{kNone, 0};
   // Vertex v's wedges are wedge[end[v], end[v + 1]).
-  std::vector<std::uint32_t> end = std::move(t.corners_of);
+  geom::detail::UninitialisedVector<std::uint32_t> end = std::move(t.corners_of);
   t.corners_of.clear();
   {
     // Each vertex's corner count (counted by the connectivity decoder while it grew the
     // table, else here) becomes its wedge list's start and, in place, its fill cursor: the
     // scatter below then bumps a dense array that stays in cache, not the wide records.
-    std::vector<std::uint32_t>& cursor = end;
-    std::uint32_t run = 0;
+    // The starts are stored shifted one place (cursor[v + 1] is v's, cursor[0] is 0), so
+    // that after the scatter, which moves each start to its vertex's end, end[v] and
+    // end[v + 1] bound v's wedges. Shifted as they are summed, not by an insert at the
+    // front afterwards, which moved (and reallocated) the whole array.
+    auto& cursor = end;
     // Counts that do not add up to the corners (a table edited without clearing them) are
     // recounted. The check is a cheap guard, not a proof: per-vertex counts are trusted.
     for (bool recount = cursor.size() != nc;; recount = true) {
@@ -127,16 +130,17 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
         cursor.assign(nc, 0);
         for (std::uint32_t v : t.vertex) ++cursor[v];
       }
-      run = 0;
+      std::uint32_t run = 0, last = 0;  // last: the previous vertex's start
       for (std::uint32_t v = 0; v < nc; ++v) {
         slot[v] = Slot{kNone, 0};
-        run += std::exchange(cursor[v], run);
+        const std::uint32_t count = cursor[v];
+        cursor[v] = last;
+        last = run;
+        run += count;
       }
+      cursor.push_back(last);
       if (run == n_corners || recount) break;
     }
-    // Shifted one place, so that after the scatter (which moves each start to its
-    // vertex's end) end[v] and end[v + 1] bound v's wedges.
-    cursor.insert(cursor.begin(), 0);
     const std::uint32_t* vx = t.vertex.data();
     const std::uint32_t* op = t.opposite.data();
     std::uint32_t* const at = cursor.data() + 1;
@@ -218,7 +222,9 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
   // the slots: a length is stored only when its vertex's residuals are decoded, and the next
   // vertex's scan loads the same slots (v is usually its neighbour), so with the length in
   // the record the traversal waited for the rANS chain; apart, the two overlap.
-  std::vector<std::uint8_t> rlen1(std::size_t{nc} + 1, 0);
+  // Not cleared: a place's entry is written when its vertex is coded, before any read of it.
+  std::unique_ptr<std::uint8_t[]> rlen1(new std::uint8_t[std::size_t{nc} + 1]);
+  rlen1[0] = 0;
   unsigned last_rlen = 0;
   for (std::uint32_t i = 0; i < nc; ++i) {
     const std::uint32_t v = pick();
