@@ -59,7 +59,7 @@ CollapseEngine::Placement CollapseEngine::place(std::uint32_t a, std::uint32_t b
   const Point* end_points[2] = {&pa, &pb};
   const int end = ends[1] < ends[0] - noise;
   Placement best{ends[end], *end_points[end], 1 + end};
-  const Eigen::Vector3d opt = q.minimizer(m);
+  const Eigen::Vector3d opt = q.minimizer(m, pinv_tolerance_);
   // The optimum must stay near the edge: a far-away minimiser of a nearly singular quadric
   // is numerically meaningless even when finite.
   const double reach = 4.0 * e2;

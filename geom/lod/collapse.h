@@ -317,6 +317,10 @@ class CollapseEngine {
   // place()'s tie band, relative to the size of the merged quadric's terms about the edge:
   // about 50 ulps, a few times the round-off of evaluating its ten terms.
   static constexpr double kTieTolerance = 1e-14;
+  // The pseudo-inverse tolerance's floor for inputs given at full double precision: well
+  // above the eigen solver's own error (about 1e-15 of the largest eigenvalue) and the
+  // round-off of summing a quadric's planes.
+  static constexpr double kSolverRoundOff = 1e-13;
   // A boundary collapse's priority counts at most this many times the squared lengths of
   // the boundary edges merged into its ends as face weight (see priority()).
   static constexpr double kBoundaryArea = 2.0;
@@ -329,6 +333,7 @@ class CollapseEngine {
   // edges sampled densely: (0.035, 0.5) and (0.05, 0.35) had no loss that the matrix did
   // not have before; 0.05 with 0.5 or 0.7, and 0.07 or 0.1 with 0.5, each lost a case.
   static constexpr double kMidRatio = 0.5, kMidSlope = 0.035;
+  double pseudo_inverse_tolerance(double max_abs, double total_area) const;
   std::vector<Point> normalised_positions() const;
 
   // Region-parallel collapses (collapse_loop.cpp).
@@ -367,6 +372,9 @@ class CollapseEngine {
 
   Point center_ = Point::Zero();
   double scale_ = 1.0;  // model = center + scale · normalised
+  // place()'s pseudo-inverse tolerance, relative to the largest eigenvalue: the eigenvalue
+  // ratio that the input's coordinate rounding alone can give (see pseudo_inverse_tolerance()).
+  double pinv_tolerance_ = 1e-7;
 
   std::vector<VertexData> vd_;
   std::vector<Point> model_;     // model units; stale for moved vertices unless record_

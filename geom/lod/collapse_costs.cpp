@@ -10,6 +10,7 @@
 
 #include <geom/lod/collapse.h>
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -88,8 +89,10 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
   const V2 c01 = q.a02 * q.a12 - q.a01 * q.a22;
   const V2 c02 = q.a01 * q.a12 - q.a02 * q.a11;
   const V2 det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
-  constexpr double kTolerance = 1e-7 * 1e3;  // minimizer()'s default tolerance, scaled as there
-  const V2 conditioned = kTolerance * trace * trace * trace;
+  // Quadric::minimizer()'s closed-form test, scaled as there, but never below its default's:
+  // the lanes in between, rare, go to place(), which takes the same closed form.
+  const double tolerance = std::max(1e-7, pinv_tolerance_) * 1e3;
+  const V2 conditioned = tolerance * trace * trace * trace;
   const V2 c11 = q.a00 * q.a22 - q.a02 * q.a02;
   const V2 c12 = q.a01 * q.a02 - q.a00 * q.a12;
   const V2 c22 = q.a00 * q.a11 - q.a01 * q.a01;
