@@ -448,9 +448,11 @@ std::uint32_t CollapseEngine::higher_edges(std::uint32_t a, Candidate* out) cons
 // 1e-7 was above that on fandisk (float32 data: 3.6e-11 here), dropping the in-plane
 // directions of its 10°-tilted sides: the optimum then often cost more than an endpoint and
 // the noisy input vertex stayed (RMS 1.053x CGAL's at 50%, which inverts unless the
-// determinant is 0). On the 9-mesh matrix, the bound times 2 to 36 loses no case that 1e-7
-// did not, except amo at 50% by 0.05-0.34% of RMS (already a loss, by 0.01%); times 1 (the
-// typical tilt, one corner off by δ) loses fandisk's RMS at 1% (1.004x).
+// determinant is 0). On the 9-mesh matrix, this bound and 3 times it lose no case that 1e-7
+// did not, except amo at 50% by 0.05-0.2% of RMS (already a loss, by 0.01%); a third of it
+// and less lets collapses slide vertices along fandisk's creases and tilt long triangles
+// off the surface (Hausdorff 1.39x CGAL's at 10%; sampling each new fan triangle's inside
+// against the old surface stops that, but cost 3-4.5% of simplify()'s time).
 double CollapseEngine::pseudo_inverse_tolerance(double max_abs, double total_area) const {
   if (triangles_.empty() || !(total_area > 0)) return kSolverRoundOff;
   const double delta = coordinate_quantum(model_, max_abs) / scale_;
