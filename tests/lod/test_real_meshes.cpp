@@ -14,6 +14,12 @@ namespace {
 
 class RealMesh : public ::testing::TestWithParam<const char*> {};
 
+/// The distance between a real mesh and its simplification to `ratio` of its faces.
+MeshDistance simplified_distance(const std::filesystem::path& file, double ratio, std::size_t samples) {
+  const SurfaceMesh m = load_mesh(file).mesh;
+  return mesh_distance(m, simplify(m, {.ratio = ratio}).mesh, {.samples = samples});
+}
+
 TEST_P(RealMesh, SimplifyKeepsTopologyOrientationAndBoundedError) {
   GEOM_REQUIRE_DATA_DIR(dir);
   const SurfaceMesh m = load_mesh(dir / GetParam()).mesh;
@@ -59,9 +65,7 @@ TEST_P(RealMesh, ProgressiveMeshReproducesTheInput) {
 // steeply off the old surface now count that height: 5.31e-4.
 TEST(RealMeshes, HalvedArmadilloCutsNoGroove) {
   GEOM_REQUIRE_DATA_DIR(dir);
-  const SurfaceMesh m = load_mesh(dir / "armadillo.obj").mesh;
-  const SimplifyResult r = simplify(m, {.ratio = 0.5});
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 30000});
+  const MeshDistance d = simplified_distance(dir / "armadillo.obj", 0.5, 30000);
   EXPECT_LT(d.relative_hausdorff(), 5.6e-4);
 }
 
@@ -72,9 +76,7 @@ TEST(RealMeshes, HalvedArmadilloCutsNoGroove) {
 // collapse), from one triangle near a corner. At the tolerance: 3.5e-4 (CGAL 3.8e-4).
 TEST(RealMeshes, TenthOfFandiskTiltsNoLongTriangleOffTheSurface) {
   GEOM_REQUIRE_DATA_DIR(dir);
-  const SurfaceMesh m = load_mesh(dir / "fandisk.off").mesh;
-  const SimplifyResult r = simplify(m, {.ratio = 0.1});
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 30000});
+  const MeshDistance d = simplified_distance(dir / "fandisk.off", 0.1, 30000);
   EXPECT_LT(d.relative_hausdorff(), 4.0e-4);
 }
 
@@ -84,9 +86,7 @@ TEST(RealMeshes, TenthOfFandiskTiltsNoLongTriangleOffTheSurface) {
 // sampling), now 4.19e-8.
 TEST(RealMeshes, HalfOfFandiskBeatsCgalOnRms) {
   GEOM_REQUIRE_DATA_DIR(dir);
-  const SurfaceMesh m = load_mesh(dir / "fandisk.off").mesh;
-  const SimplifyResult r = simplify(m, {.ratio = 0.5});
-  const MeshDistance d = mesh_distance(m, r.mesh, {.samples = 500000});
+  const MeshDistance d = simplified_distance(dir / "fandisk.off", 0.5, 500000);
   EXPECT_LT(d.relative_rms(), 4.295e-8);
 }
 
