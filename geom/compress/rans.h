@@ -183,12 +183,50 @@ class alignas(64) SmallModel {
   std::array<std::uint32_t, N> counts_{};
 };
 
+/// An adaptive model of 1, 2 or 4 symbols chosen at run time that codes exactly as
+/// SmallModel<2> or SmallModel<4> (same counts, rebuilds and frequencies). One type for
+/// the alphabets lets a decoder pick the model by a decoded value without a branch on it.
+/// With one symbol, which is certain (frequency 2^15), decoding leaves the rANS state
+/// as it was and consumes no byte, so a decoder may run it where the format codes nothing.
+class alignas(32) TinyModel {
+ public:
+  /// Pre: n_symbols is 1, 2 or 4.
+  explicit TinyModel(unsigned n_symbols = 1) : n_(static_cast<std::uint8_t>(n_symbols)) {
+    cum_.fill(kProbScale);  // the boundaries past the alphabet: above every slot
+    counts_.fill(1);
+    rebuild();
+  }
+  unsigned size() const { return n_; }
+  std::uint32_t start(unsigned s) const { return cum_[s]; }
+  std::uint32_t freq(unsigned s) const { return std::uint32_t{cum_[s + 1]} - cum_[s]; }
+  unsigned find(std::uint32_t slot) const {
+    return unsigned{cum_[1] <= slot} + unsigned{cum_[2] <= slot} + unsigned{cum_[3] <= slot};
+  }
+  void update(unsigned s) {
+    counts_[s] += detail::kModelIncrement;
+    if (--until_rebuild_ == 0) rebuild();
+  }
+
+ private:
+  void rebuild() {  // as SmallModel's
+    detail::rebuild_cumulative(counts_.data(), n_, cum_.data());
+    interval_ = static_cast<std::uint16_t>(
+        std::min<std::uint32_t>(interval_ * 2u, detail::kModelMaxInterval));
+    until_rebuild_ = interval_;
+  }
+  std::array<std::uint16_t, 5> cum_{};
+  std::uint16_t until_rebuild_ = 0;
+  std::uint16_t interval_ = 8;
+  std::uint8_t n_;
+  std::array<std::uint32_t, 4> counts_{};
+};
+
 /// Collects symbols in coding order and writes them as one rANS stream at finish(). rANS is
 /// last-in first-out, so symbols are buffered and coded in reverse; the models adapt in
 /// forward order on both sides.
 class RansEncoder {
  public:
-  template <class Model>  // AdaptiveModel or SmallModel
+  template <class Model>  // AdaptiveModel, SmallModel or TinyModel
   void encode(Model& model, unsigned s) {
     entries_.push_back((model.start(s) << 16) | model.freq(s));
     model.update(s);
@@ -215,7 +253,7 @@ class RansDecoder {
   /// Throws: DecodeError when the buffer cannot hold the initial state.
   RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base);
 
-  template <class Model>  // AdaptiveModel or SmallModel
+  template <class Model>  // AdaptiveModel, SmallModel or TinyModel
   unsigned decode(Model& model) {
     const std::uint32_t x = x_, slot = x & (kProbScale - 1);
     const unsigned s = model.find(slot);
@@ -303,8 +341,9 @@ class BitReader {
   BitReader(std::span<const std::uint8_t> bytes, std::uint64_t base)
       : data_(bytes.data()), size_(bytes.size()), base_(base) {}
   /// Throws: DecodeError when the stream has fewer than `bits` bits left.
+  /// No test for bits = 0, which reads nothing as it is: the residual reader asks for 0 or
+  /// more bits without a branch on which.
   std::uint32_t get(unsigned bits) {
-    if (bits == 0) return 0;
     if (fill_ < bits) refill(bits);
     const std::uint32_t v = static_cast<std::uint32_t>(acc_ & ((std::uint64_t{1} << bits) - 1));
     acc_ >>= bits;

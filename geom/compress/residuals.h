@@ -28,23 +28,26 @@ inline constexpr unsigned kLengthClasses = 12;
 /// minimum frequency, so 20 unused ones cost about 0.03 bits per residual.
 struct ResidualModels {
   std::vector<AdaptiveModel> length;
-  /// The modelled bits below the leading one (modelled_bits(len)), per axis: one bit for
-  /// length 2, and two per length 3 … 32 (top4[axis * 33 + len]; the entries below 3 are
-  /// unused). Fixed alphabets, so the decoder's symbol search is two or three compares.
-  std::vector<SmallModel<2>> top2;  // (vectors: an over-aligned member would over-align
-  std::vector<SmallModel<4>> top4;  //  the coders holding the models)
+  /// The modelled bits below the leading one (modelled_bits(len)), per axis and length:
+  /// top[axis * 33 + len] has one symbol for lengths 0 and 1 (certain: never coded, and
+  /// decoding it reads nothing), two for length 2 and four for lengths 3 … 32. One model
+  /// type for every length, so that the decoder runs the same steps whatever the length:
+  /// branches on it mispredicted about twice a vertex. Fixed alphabets, so the decoder's
+  /// symbol search is three compares.
+  std::vector<TinyModel> top;  // (a vector: an over-aligned member would over-align the
+                               //  coders holding the models)
   /// kMultiParallelogramSelect's subset masks, one model per number of candidates (2 … 4).
   std::vector<AdaptiveModel> subset;
   explicit ResidualModels(unsigned n_lengths = 33)
-      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)), top2(3), top4(3 * 33) {
+      : length(3 * 3 * kLengthClasses, AdaptiveModel(n_lengths)) {
+    top.reserve(3 * 33);
+    for (unsigned axis = 0; axis < 3; ++axis)
+      for (unsigned len = 0; len <= 32; ++len) top.emplace_back(len < 2 ? 1 : len == 2 ? 2 : 4);
     for (unsigned m = 2; m <= kMaxSelect; ++m) subset.emplace_back((1u << m) - 1);
   }
   /// Codes the modelled bits of a residual z of length len ≥ 2 whose lowest rb bits are raw.
   void encode_top(RansEncoder& rans, unsigned axis, unsigned len, std::uint32_t z, unsigned rb) {
-    if (len == 2)
-      rans.encode(top2[axis], (z >> rb) & 1u);
-    else
-      rans.encode(top4[axis * 33 + len], (z >> rb) & 3u);
+    rans.encode(top[axis * 33 + len], (z >> rb) & (len == 2 ? 1u : 3u));
   }
 };
 
@@ -84,7 +87,7 @@ class ResidualReader {
   unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
     // context()'s terms that do not depend on the axis, hoisted.
     AdaptiveModel* const length = m_.length.data() + (count > 2 ? 2 : count) * kLengthClasses;
-    SmallModel<4>* const top4 = m_.top4.data();
+    TinyModel* const top = m_.top.data();
     std::uint32_t point[3];  // stored to out at the end: out may alias the models' counts
     unsigned longest = 0, prev = prev_len_;
 #pragma GCC unroll 3
@@ -93,14 +96,12 @@ class ResidualReader {
       const unsigned pl = blend >= kLengthClasses ? kLengthClasses - 1 : blend;
       // The length models have at most 33 symbols, so len ≤ 32.
       const unsigned len = rans_.decode(length[x * 3 * kLengthClasses + pl]);
-      std::uint32_t z = len;  // lengths 0 and 1 are the values 0 and 1
-      if (len == 2) {
-        z = 2 | rans_.decode(m_.top2[x]);
-      } else if (len > 2) {
-        const unsigned rb = len - 3;  // modelled_bits(len) = 2
-        const std::uint32_t high = 4 | rans_.decode(top4[x * 33 + len]);
-        z = (high << rb) | raw_.get(rb);
-      }
+      // z = the leading one, the modelled bits below it, then rb raw bits; lengths 0 and 1
+      // are the values 0 and 1 (their certain symbol decodes as 0). No branch on len.
+      const std::uint32_t high = rans_.decode(top[x * 33 + len]);
+      const unsigned rb = len > 3 ? len - 3 : 0;  // modelled_bits(len) = 2 from length 3
+      const std::uint32_t lead = len > 2 ? 4 : len;
+      const std::uint32_t z = ((lead | high) << rb) | raw_.get(rb);
       // Zigzag: even z are z / 2, odd z are −(z + 1) / 2. A point below 0 wraps above top_.
       const std::int64_t r = std::int64_t{z >> 1} ^ -std::int64_t{z & 1u};
       const auto v = static_cast<std::uint64_t>(std::int64_t{p[x]} + r);

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 namespace geom::codec::detail {
 namespace {
@@ -110,6 +111,37 @@ TEST(EntropyModels, FindTheSymbolOfEverySlotForEveryAlphabet) {
   small(SmallModel<6>{});
   small(SmallModel<7>{});
   small(SmallModel<8>{});
+  small(TinyModel{2});
+  small(TinyModel{4});
+}
+
+// The residual tops' models (TinyModel) must code exactly as the SmallModels of their size
+// that the format names, and their one-symbol form, which the decoder runs where nothing was
+// coded, must leave the stream as it was: anywhere, and up to its last byte.
+TEST(EntropyModels, TinyModelCodesAsSmallModelAndItsCertainSymbolReadsNothing) {
+  std::mt19937 rng(11);
+  RansEncoder by_small, by_tiny;
+  SmallModel<2> small2;
+  SmallModel<4> small4;
+  TinyModel tiny2(2), tiny4(4);
+  std::vector<std::pair<bool, unsigned>> coded;  // (four symbols, symbol)
+  for (int i = 0; i < 5000; ++i) {
+    const bool four = rng() % 3 != 0;
+    const unsigned s = rng() % 4 == 0 ? rng() % (four ? 4 : 2) : 0;  // skewed
+    coded.emplace_back(four, s);
+    four ? by_small.encode(small4, s) : by_small.encode(small2, s);
+    by_tiny.encode(four ? tiny4 : tiny2, s);
+  }
+  const std::vector<std::uint8_t> bytes = by_tiny.finish();
+  ASSERT_EQ(bytes, by_small.finish());
+  RansDecoder rd(bytes, 0);
+  TinyModel dec2(2), dec4(4), certain(1);
+  for (std::size_t i = 0; i < coded.size(); ++i) {
+    ASSERT_EQ(rd.decode(certain), 0u) << i;
+    ASSERT_EQ(rd.decode(coded[i].first ? dec4 : dec2), coded[i].second) << i;
+  }
+  for (int i = 0; i < 3000; ++i) ASSERT_EQ(rd.decode(certain), 0u);  // past rebuilds, at the end
+  rd.finish();
 }
 
 TEST(PointChain, WalksALineGivenInRandomOrder) {
