@@ -10,7 +10,6 @@
 
 #include <geom/lod/collapse.h>
 
-#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -89,13 +88,10 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
   const V2 c01 = q.a02 * q.a12 - q.a01 * q.a22;
   const V2 c02 = q.a01 * q.a12 - q.a02 * q.a11;
   const V2 det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
-  // Quadric::minimizer()'s closed-form test, scaled as there, but never below its default's:
-  // the lanes in between, rare, go to place(), which takes the same closed form.
-  const double tolerance = std::max(1e-7, pinv_tolerance_) * 1e3;
-  const V2 conditioned = tolerance * trace * trace * trace;
   const V2 c11 = q.a00 * q.a22 - q.a02 * q.a02;
   const V2 c12 = q.a01 * q.a02 - q.a00 * q.a12;
   const V2 c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  const V2 sigma2 = c00 + c11 + c22;
   const V2 inv = 1.0 / det;
   const V2 ox = mx + (c00 * rx + c01 * ry + c02 * rz) * inv;
   const V2 oy = my + (c01 * rx + c11 * ry + c12 * rz) * inv;
@@ -111,7 +107,8 @@ std::array<double, 2> CollapseEngine::place_cost_pair(const std::uint32_t* a,
   std::array<double, 2> cost;
   for (int k = 0; k < 2; ++k) {
     const bool plain = !attributes_ && !(k ? a1 : a0).locked && !(k ? b1 : b0).locked &&
-                       trace[k] > 0 && std::isfinite(trace[k]) && det[k] > conditioned[k];
+                       trace[k] > 0 && std::isfinite(trace[k]) &&
+                       Quadric::closed_form_ok(trace[k], det[k], sigma2[k], pinv_tolerance_);
     if (!plain) [[unlikely]] {
       cost[k] = place(a[k], b[k]).cost;
       continue;

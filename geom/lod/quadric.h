@@ -76,6 +76,15 @@ struct Quadric {
   Eigen::Vector3d minimizer(const Eigen::Vector3d& reference,
                             double relative_tolerance = 1e-7) const;
 
+  /// Whether minimizer() takes the closed-form inverse for A with this trace, determinant
+  /// and sum of principal 2×2 minors (σ₂): every eigenvalue is above the tolerance (λmin ≥
+  /// det/σ₂, λmax ≤ trace), so the pseudo-inverse is the inverse, and det ≥ kConditioned·
+  /// trace³, so the determinant's round-off (a few ε·trace³) stays below 1e-5 of it.
+  static bool closed_form_ok(double trace, double det, double sigma2, double relative_tolerance) {
+    return det > kConditioned * trace * trace * trace && det > relative_tolerance * trace * sigma2;
+  }
+  static constexpr double kConditioned = 1e-10;
+
  private:
   // The pseudo-inverse for an ill-conditioned A, out of line: it is rare and heavy.
   Eigen::Vector3d minimizer_singular(const Eigen::Vector3d& reference, const Eigen::Vector3d& r,
@@ -108,17 +117,15 @@ inline Eigen::Vector3d Quadric::minimizer(const Eigen::Vector3d& reference,
                           -(a02 * x + a12 * y + a22 * z + b2));
   const double trace = a00 + a11 + a22;
   if (!(trace > 0) || !std::isfinite(trace)) return reference;
-  // Cofactors of the symmetric A; det ≤ λmin·trace², so det > tol·trace³ bounds the
-  // condition number and the closed form is safe.
   const double c00 = a11 * a22 - a12 * a12;
   const double c01 = a02 * a12 - a01 * a22;
   const double c02 = a01 * a12 - a02 * a11;
   const double det = a00 * c00 + a01 * c01 + a02 * c02;
-  if (!(det > relative_tolerance * 1e3 * trace * trace * trace))
-    return minimizer_singular(reference, r, relative_tolerance);
   const double c11 = a00 * a22 - a02 * a02;
   const double c12 = a01 * a02 - a00 * a12;
   const double c22 = a00 * a11 - a01 * a01;
+  if (!closed_form_ok(trace, det, c00 + c11 + c22, relative_tolerance))
+    return minimizer_singular(reference, r, relative_tolerance);
   const double inv = 1.0 / det;
   return {x + (c00 * r.x() + c01 * r.y() + c02 * r.z()) * inv,
           y + (c01 * r.x() + c11 * r.y() + c12 * r.z()) * inv,
