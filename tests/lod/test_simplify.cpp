@@ -47,9 +47,10 @@ TEST(Quadric, MinimizerIsThePseudoInverseForEveryRankAndScale) {
   // Quadrics built from a known eigen-decomposition: the answer is ref + Σ u(u·r)/λ over
   // the eigenvalues above tolerance × the largest. Spectra stay at least 10× away from the
   // tolerance, far beyond round-off, so the expected rank is no judgement call. They cover
-  // every branch of minimizer(): the closed form, rank 1 (flat), rank 2 (crease),
-  // near-rank-deficient but full (smooth scans) and the eigensolver, at the simplifier's range of
-  // tolerances and at tiny and huge scales.
+  // minimizer()'s closed form, its rank-1 shortcut (flat regions) and its deflation towards
+  // a dominant eigenvalue (nearly flat patches) or a null direction (creases), for rank 2
+  // and for full but ill-conditioned quadrics, at the simplifier's range of tolerances and
+  // at tiny and huge scales.
   std::mt19937 rng(7);
   std::normal_distribution<double> g;
   const std::vector<Eigen::Vector3d> spectra = {
