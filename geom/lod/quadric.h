@@ -86,7 +86,8 @@ struct Quadric {
   static constexpr double kConditioned = 1e-10;
 
  private:
-  // The pseudo-inverse for an ill-conditioned A, out of line: it is rare and heavy.
+  // The pseudo-inverse for an ill-conditioned A (most quadrics on flat CAD faces and smooth
+  // dense scans), out of line: a rank-1 shortcut, deflation, an eigensolver as the fallback.
   Eigen::Vector3d minimizer_singular(const Eigen::Vector3d& reference, const Eigen::Vector3d& r,
                                      double relative_tolerance) const;
 };
