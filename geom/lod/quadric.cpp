@@ -2,7 +2,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <algorithm>
 #include <cmath>
 
 namespace geom {
@@ -15,15 +14,14 @@ Eigen::Matrix3d Quadric::matrix() const {
 
 namespace {
 
-// The pseudo-inverse of the symmetric A (eigenvalues below tol × the largest dropped) applied
-// to r, by deflation: one eigenvector u found by power iteration on m (A itself when one
-// eigenvalue dominates, converging as λ2/λ1; A's adjugate when one is far below the others,
-// as λ3/λ2), the other two from the 2×2 matrix of A on the plane normal to u by a Jacobi
-// rotation. Their eigenvalues come out within a few ε·trace, as the iterative eigensolver's,
-// at about half its cost. False, leaving d alone, when u does not settle within 8 steps (two
+// The eigenpairs of the symmetric A by deflation: one eigenvector u by power iteration on m
+// (A itself when one eigenvalue dominates, converging as λ2/λ1; A's adjugate when one is far
+// below the others, as λ3/λ2), the other two from the 2×2 matrix of A on the plane normal to
+// u by a Jacobi rotation. Their eigenvalues come out within a few ε·trace, as the iterative
+// eigensolver's, at about 0.6-0.7× its cost. False when u does not settle within 8 steps (two
 // close eigenvalues on the side iterated towards).
-bool deflated_pseudo_inverse(const Eigen::Matrix3d& a, const Eigen::Matrix3d& m,
-                             const Eigen::Vector3d& r, double tol, Eigen::Vector3d& d) {
+bool deflated_eigenpairs(const Eigen::Matrix3d& a, const Eigen::Matrix3d& m,
+                         Eigen::Vector3d& lambda, Eigen::Matrix3d& vectors) {
   const double trace = a.trace();
   int j = 0;
   m.diagonal().maxCoeff(&j);
@@ -46,38 +44,27 @@ bool deflated_pseudo_inverse(const Eigen::Matrix3d& a, const Eigen::Matrix3d& m,
   u.cwiseAbs().minCoeff(&k);
   const Eigen::Vector3d p = u.cross(Eigen::Vector3d::Unit(k)).normalized(), q = u.cross(p);
   const double alpha = p.dot(a * p), beta = p.dot(a * q), gamma = q.dot(a * q);
-  double mu1 = alpha, mu2 = gamma;
-  Eigen::Vector3d v1 = p, v2 = q;
+  lambda = {rho, alpha, gamma};
+  vectors << u, p, q;
   if (beta != 0) {
     const double tau = (gamma - alpha) / (2 * beta);
     const double t = (tau >= 0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1 + tau * tau));
     const double c = 1 / std::sqrt(1 + t * t), s = t * c;
-    mu1 = alpha - t * beta, mu2 = gamma + t * beta;
-    v1 = c * p - s * q, v2 = s * p + c * q;
+    lambda = {rho, alpha - t * beta, gamma + t * beta};
+    vectors << u, c * p - s * q, s * p + c * q;
   }
-  const double lmax = std::max({std::abs(rho), std::abs(mu1), std::abs(mu2)});
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  if (rho > tol * lmax) sum += u * (u.dot(r) / rho);
-  if (mu1 > tol * lmax) sum += v1 * (v1.dot(r) / mu1);
-  if (mu2 > tol * lmax) sum += v2 * (v2.dot(r) / mu2);
-  if (!sum.allFinite()) return false;
-  d = sum;
   return true;
 }
 
 }  // namespace
 
 Eigen::Vector3d Quadric::minimizer_singular(const Eigen::Vector3d& reference,
-                                            const Eigen::Vector3d& r,
+                                            const Eigen::Vector3d& r, const Adjugate& c,
                                             double relative_tolerance) const {
   const Eigen::Matrix3d a = matrix();
   const double trace = a00 + a11 + a22;
   const double tol = relative_tolerance;
-  // The adjugate (cofactors) of A, and σ₂, the sum of its principal minors.
-  const double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22,
-               c02 = a01 * a12 - a02 * a11, c11 = a00 * a22 - a02 * a02,
-               c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
-  const double sigma2 = c00 + c11 + c22;
+  const double sigma2 = c.sigma2();
   // Flat regions settle from the invariants alone (with λ1 ≥ λ2 ≥ λ3 ≥ 0, λ1 ≥ trace/3 and
   // λ1λ2 ≤ σ₂): σ₂ ≤ tol·trace²/9 gives λ2 ≤ 3σ₂/trace ≤ tol·λ1, so only the largest
   // eigenvalue counts, and A·r / trace² is its term u1(u1·r)/λ1 up to a relative tol. σ₂'s
@@ -87,21 +74,26 @@ Eigen::Vector3d Quadric::minimizer_singular(const Eigen::Vector3d& reference,
     return d.allFinite() ? Eigen::Vector3d(reference + d) : reference;
   }
   // Otherwise one eigenvalue nearly always stands apart from the other two: the largest on a
-  // nearly flat patch (σ₂ small), the smallest at a crease. Iterate towards it.
+  // nearly flat patch (σ₂ small), the smallest at a crease. Iterate towards it; the
+  // eigensolver only when that does not settle.
   Eigen::Matrix3d m = a;
-  if (sigma2 > 1e-2 * trace * trace) m << c00, c01, c02, c01, c11, c12, c02, c12, c22;
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  if (deflated_pseudo_inverse(a, m, r, tol, d)) return reference + d;
-  // The iterative solver, not computeDirect(): the closed form's small eigenvalues of a
-  // nearly rank-1 quadric are off by about 4e-9 of the largest (on fandisk it returned
-  // negative ones for these positive semi-definite matrices), too coarse for a tolerance
-  // below that. compute() resolves them to about machine epsilon.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.compute(a);
-  const Eigen::Vector3d lambda = eig.eigenvalues();
+  if (sigma2 > 1e-2 * trace * trace)
+    m << c.c00, c.c01, c.c02, c.c01, c.c11, c.c12, c.c02, c.c12, c.c22;
+  Eigen::Vector3d lambda;
+  Eigen::Matrix3d v;
+  if (!deflated_eigenpairs(a, m, lambda, v)) {
+    // The iterative solver, not computeDirect(): the closed form's small eigenvalues of a
+    // nearly rank-1 quadric are off by about 4e-9 of the largest (on fandisk it returned
+    // negative ones for these positive semi-definite matrices), too coarse for a tolerance
+    // below that. compute() resolves them to about machine epsilon.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.compute(a);
+    lambda = eig.eigenvalues();
+    v = eig.eigenvectors();
+  }
   const double lmax = lambda.cwiseAbs().maxCoeff();
   if (!(lmax > 0) || !lambda.allFinite()) return reference;
-  const Eigen::Matrix3d& v = eig.eigenvectors();
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
   for (int k = 0; k < 3; ++k)
     if (lambda[k] > tol * lmax) d += v.col(k) * (v.col(k).dot(r) / lambda[k]);
   if (!d.allFinite()) return reference;

@@ -86,10 +86,19 @@ struct Quadric {
   static constexpr double kConditioned = 1e-10;
 
  private:
+  // A's adjugate (its cofactors, symmetric), shared by minimizer() and its singular path.
+  struct Adjugate {
+    double c00, c01, c02, c11, c12, c22;
+    double sigma2() const { return c00 + c11 + c22; }  // the sum of A's principal 2×2 minors
+  };
+  Adjugate adjugate() const {
+    return {a11 * a22 - a12 * a12, a02 * a12 - a01 * a22, a01 * a12 - a02 * a11,
+            a00 * a22 - a02 * a02, a01 * a02 - a00 * a12, a00 * a11 - a01 * a01};
+  }
   // The pseudo-inverse for an ill-conditioned A (most quadrics on flat CAD faces and smooth
   // dense scans), out of line: a rank-1 shortcut, deflation, an eigensolver as the fallback.
   Eigen::Vector3d minimizer_singular(const Eigen::Vector3d& reference, const Eigen::Vector3d& r,
-                                     double relative_tolerance) const;
+                                     const Adjugate& adj, double relative_tolerance) const;
 };
 
 // Inline: simplification calls it for every face at the start.
@@ -118,19 +127,14 @@ inline Eigen::Vector3d Quadric::minimizer(const Eigen::Vector3d& reference,
                           -(a02 * x + a12 * y + a22 * z + b2));
   const double trace = a00 + a11 + a22;
   if (!(trace > 0) || !std::isfinite(trace)) return reference;
-  const double c00 = a11 * a22 - a12 * a12;
-  const double c01 = a02 * a12 - a01 * a22;
-  const double c02 = a01 * a12 - a02 * a11;
-  const double det = a00 * c00 + a01 * c01 + a02 * c02;
-  const double c11 = a00 * a22 - a02 * a02;
-  const double c12 = a01 * a02 - a00 * a12;
-  const double c22 = a00 * a11 - a01 * a01;
-  if (!closed_form_ok(trace, det, c00 + c11 + c22, relative_tolerance))
-    return minimizer_singular(reference, r, relative_tolerance);
+  const Adjugate c = adjugate();
+  const double det = a00 * c.c00 + a01 * c.c01 + a02 * c.c02;
+  if (!closed_form_ok(trace, det, c.sigma2(), relative_tolerance))
+    return minimizer_singular(reference, r, c, relative_tolerance);
   const double inv = 1.0 / det;
-  return {x + (c00 * r.x() + c01 * r.y() + c02 * r.z()) * inv,
-          y + (c01 * r.x() + c11 * r.y() + c12 * r.z()) * inv,
-          z + (c02 * r.x() + c12 * r.y() + c22 * r.z()) * inv};
+  return {x + (c.c00 * r.x() + c.c01 * r.y() + c.c02 * r.z()) * inv,
+          y + (c.c01 * r.x() + c.c11 * r.y() + c.c12 * r.z()) * inv,
+          z + (c.c02 * r.x() + c.c12 * r.y() + c.c22 * r.z()) * inv};
 }
 
 }  // namespace geom

@@ -43,6 +43,14 @@ TEST(Quadric, SingularQuadricsStayNearTheReference) {
   EXPECT_LT((p - Point(1, 1, 0)).norm(), 1e-6);
 }
 
+// The quadric xᵀAx + 2bᵀx (A symmetric).
+Quadric quadric_of(const Eigen::Matrix3d& a, const Eigen::Vector3d& b) {
+  Quadric q;
+  q.a00 = a(0, 0), q.a01 = a(0, 1), q.a02 = a(0, 2), q.a11 = a(1, 1), q.a12 = a(1, 2), q.a22 = a(2, 2);
+  q.b0 = b.x(), q.b1 = b.y(), q.b2 = b.z();
+  return q;
+}
+
 TEST(Quadric, MinimizerIsThePseudoInverseForEveryRankAndScale) {
   // Quadrics built from a known eigen-decomposition: the answer is ref + Σ u(u·r)/λ over
   // the eigenvalues above tolerance × the largest. Spectra stay at least 10× away from the
@@ -67,10 +75,7 @@ TEST(Quadric, MinimizerIsThePseudoInverseForEveryRankAndScale) {
           const Eigen::Matrix3d a = u * lambda.asDiagonal() * u.transpose();
           const Eigen::Vector3d ref(g(rng), g(rng), g(rng)),
               b = scale * Eigen::Vector3d(g(rng), g(rng), g(rng));
-          Quadric q;
-          q.a00 = a(0, 0), q.a01 = a(0, 1), q.a02 = a(0, 2), q.a11 = a(1, 1), q.a12 = a(1, 2),
-          q.a22 = a(2, 2);
-          q.b0 = b.x(), q.b1 = b.y(), q.b2 = b.z();
+          const Quadric q = quadric_of(a, b);
           const Eigen::Vector3d r = -(a * ref + b);
           Eigen::Vector3d expected = ref;
           for (int k = 0; k < 3; ++k)
@@ -91,9 +96,7 @@ TEST(Quadric, DeflationKeepsSmallKeptEigenvaluesAccurate) {
     Eigen::Matrix3d u;
     u << c, -s, 0, s, c, 0, 0, 0, 1;  // columns: the eigenvectors of lambda
     const Eigen::Matrix3d a = u * lambda.asDiagonal() * u.transpose();
-    Quadric q;
-    q.a00 = a(0, 0), q.a01 = a(0, 1), q.a02 = a(0, 2), q.a11 = a(1, 1), q.a12 = a(1, 2), q.a22 = a(2, 2);
-    q.b0 = b.x(), q.b1 = b.y(), q.b2 = b.z();
+    const Quadric q = quadric_of(a, b);
     Eigen::Vector3d expected = Eigen::Vector3d::Zero();
     for (int k = 0; k < kept; ++k) expected += u.col(k) * (u.col(k).dot(-b) / lambda[k]);
     return std::pair{q.minimizer(Point::Zero(), 1e-13), expected};
