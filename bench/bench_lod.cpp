@@ -3,9 +3,18 @@
 //
 //   bench_lod [--faces N] [--peers ours,ours_plain,ours_refit,meshopt,openmesh,cgal,ours_attr,meshopt_attr]
 //             [--slow-max-faces N] [--attr-faces N] [--attribute-weight W] [--only NAME]
+//             [--peers-from CSV]
 //
 // --only keeps the inputs whose name contains NAME (the torus is "torus-1000k"): one mesh's
 // rows in seconds rather than the whole matrix in minutes.
+//
+// --peers-from takes OpenMesh's and CGAL's rows from an earlier bench-out/lod.csv instead of
+// running them (their results are deterministic; only their times drift): a change to ours
+// is judged against the whole error matrix in seconds rather than minutes. Rows it lacks run.
+//
+// After the table, a summary gives each target's error ratios of ours (the default) to the
+// best peer and counts the losses: the goal is every ratio below 1 within 1.5x
+// meshoptimizer's wall time.
 //
 // Times are process CPU seconds (std::clock), min of 2 runs for the fast methods: CPU time
 // stays meaningful on a loaded shared machine where wall time does not. Every method is
@@ -49,6 +58,9 @@
 #include <meshoptimizer.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <ctime>
 #include <numbers>
 #include <random>
@@ -143,6 +155,59 @@ struct Input {
   SurfaceMesh mesh;
 };
 
+// Rows of a lod.csv written by this program (no field holds a comma).
+std::vector<std::vector<std::string>> read_csv(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("bench_lod: cannot read " + path);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(f, line);) {
+    std::vector<std::string> row;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(cell);
+    if (row.size() == 11 && row[0] != "input") rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+const std::vector<std::string>* find_row(const std::vector<std::vector<std::string>>& rows,
+                                         const std::string& input, std::size_t target,
+                                         const std::string& method) {
+  for (const auto& r : rows)
+    if (r[0] == input && r[2] == std::to_string(target) && r[3] == method) return &r;
+  return nullptr;
+}
+
+// Per input and target: ours' Hausdorff and RMS over the best peer's (meshopt, openmesh,
+// cgal) and its wall time over meshoptimizer's; then the losses and the geometric means.
+void print_summary(const std::vector<std::vector<std::string>>& rows) {
+  Table summary({"input", "target", "H/best_peer", "RMS/best_peer", "wall_vs_meshopt"});
+  int losses = 0, slow = 0, cells = 0;
+  double log_h = 0, log_rms = 0;
+  for (const auto& ours : rows) {
+    if (ours[3] != "ours") continue;
+    double h = std::numeric_limits<double>::infinity(), rms = h;
+    for (const auto& r : rows)
+      if (r[0] == ours[0] && r[2] == ours[2] && (r[3] == "meshopt" || r[3] == "openmesh" || r[3] == "cgal")) {
+        h = std::min(h, std::stod(r[9]));
+        rms = std::min(rms, std::stod(r[10]));
+      }
+    if (!std::isfinite(h)) continue;
+    const double rh = std::stod(ours[9]) / h, rr = std::stod(ours[10]) / rms;
+    losses += (rh >= 1) + (rr >= 1);
+    cells += 2;
+    log_h += std::log(rh), log_rms += std::log(rr);
+    const std::string wall = ours[7];
+    if (wall != "n/a" && std::stod(wall) > 1.5) ++slow;
+    summary.add({ours[0], ours[2], fmt(rh, 4), fmt(rr, 4), wall});
+  }
+  if (cells == 0) return;
+  std::cout << "\nours against the best peer (below 1: ours is better)\n";
+  summary.print();
+  std::cout << "error losses: " << losses << " of " << cells << "; geomean H " << fmt(std::exp(2 * log_h / cells), 4)
+            << ", RMS " << fmt(std::exp(2 * log_rms / cells), 4) << "; targets above 1.5x meshopt's wall time: " << slow
+            << " of " << cells / 2 << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -151,13 +216,30 @@ int main(int argc, char** argv) {
   std::size_t attr_faces = 0;
   double attr_weight = 1.0;
   std::string only;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string arg = argv[i], val = argv[i + 1];
+  std::string peers_from;
+  const auto usage = [] {
+    std::cout << "usage: bench_lod [--faces N] [--peers LIST] [--slow-max-faces N] [--attr-faces N]\n"
+                 "                 [--attribute-weight W] [--only NAME] [--peers-from CSV]\n"
+                 "peers: ours,ours_plain,ours_refit,meshopt,openmesh,cgal,ours_attr,meshopt_attr\n"
+                 "(see the comment at the top of bench/bench_lod.cpp)\n";
+  };
+  for (int i = 1; i < argc; i += 2) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      usage();
+      return 0;
+    }
+    if (i + 1 >= argc) {
+      std::cerr << "bench_lod: " << arg << " needs a value\n";
+      return 2;
+    }
+    const std::string val = argv[i + 1];
     if (arg == "--faces") torus_faces = std::stoul(val);
     else if (arg == "--slow-max-faces") slow_max = std::stoul(val);
     else if (arg == "--attr-faces") attr_faces = std::stoul(val);
     else if (arg == "--attribute-weight") attr_weight = std::stod(val);
     else if (arg == "--only") only = val;
+    else if (arg == "--peers-from") peers_from = val;
     else if (arg == "--peers") {
       peers.clear();
       std::size_t s = 0;
@@ -167,10 +249,12 @@ int main(int argc, char** argv) {
         s = e + 1;
       }
     } else {
-      std::cerr << "unknown option " << arg << "\n";
+      std::cerr << "bench_lod: unknown option " << arg << "\n";
+      usage();
       return 2;
     }
   }
+  const std::vector<std::vector<std::string>> earlier = peers_from.empty() ? std::vector<std::vector<std::string>>{} : read_csv(peers_from);
 
   std::vector<Input> inputs;
   const auto wanted = [&](const std::string& name) { return name.find(only) != std::string::npos; };
@@ -222,13 +306,23 @@ int main(int argc, char** argv) {
       if (peers.count("ours_plain")) report("ours_plain", simplify_ours(in.mesh, target, 0));
       if (peers.count("ours_refit")) report("ours_refit", simplify_ours(in.mesh, target, 1));
       if (f0 <= slow_max) {
-        if (peers.count("openmesh")) report("openmesh", simplify_openmesh(in.arrays, target));
-        if (peers.count("cgal")) report("cgal", simplify_cgal(in.arrays, target));
+        for (const auto& [method, run] :
+             {std::pair{"openmesh", &simplify_openmesh}, std::pair{"cgal", &simplify_cgal}}) {
+          if (!peers.count(method)) continue;
+          if (const auto* row = find_row(earlier, in.name, target, method)) {
+            table.add(*row);
+            if (in.name.rfind("torus-", 0) == 0)
+              tradeoff.add({method, std::to_string(target), (*row)[4], (*row)[9], (*row)[10]});
+          } else {
+            report(method, run(in.arrays, target));
+          }
+        }
       }
     }
   }
   table.print();
   table.write_csv(out_dir() / "lod.csv");
+  print_summary(table.rows());
   if (peers.count("ours_attr") || peers.count("meshopt_attr")) {
     Table attributes({"input", "faces", "target", "method", "seconds", "ratio_vs_meshopt", "achieved",
                       "hausdorff_rel", "rms_rel", "uv_max", "uv_rms"});

@@ -81,6 +81,7 @@ class Table {
  public:
   explicit Table(std::vector<std::string> columns) : columns_(std::move(columns)) {}
   void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  const std::vector<std::vector<std::string>>& rows() const { return rows_; }
 
   void print(std::ostream& os = std::cout) const {
     std::vector<std::size_t> width(columns_.size());
