@@ -567,7 +567,7 @@ CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limit
         return Drain::kRoom;
       }
     }
-    if (!limits.all_queues) prefetch_upcoming(wk);
+    if (!limits.all_queues && vd_.size() > kPrefetchMinVertices) prefetch_upcoming(wk);
     const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;
