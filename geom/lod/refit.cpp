@@ -253,30 +253,77 @@ class Refitter {
   // order's locality (colour classes, which sweep the whole mesh once per colour, made the
   // moves 65% slower on one core). It pays when the input's vertex order is spatially
   // coherent, as the simplifier's output keeps it (torus 1M at 10%: 387 seam vertices of 50k,
-  // against 5008 when a neighbour in any other block counted); amo.ply's is not (most of it
-  // is seam), and its moves run serially.
+  // against 5008 when a neighbour in any other block counted). Where it is not (amo.ply's
+  // order is random: most of it was seam, and its moves ran serially), the blocks are cut
+  // from the vertices sorted along a Morton curve instead, and the moves go in that order.
   void plan_blocks() {
-    // About eight blocks, 512 to 8192 vertices each: larger ones leave fewer seam vertices.
     const std::size_t nv = mesh_.vertices_size();
+    std::vector<std::uint32_t> order(nv);
+    for (std::uint32_t v = 0; v < nv; ++v) order[v] = v;
+    const std::size_t free = plan_blocks_in(order);
+    if (seam_.size() * 4 > free) plan_blocks_in(morton_order());
+  }
+
+  // Plan the blocks over the vertices in this order (all of them, each once); returns the
+  // number of free vertices.
+  std::size_t plan_blocks_in(const std::vector<std::uint32_t>& order) {
+    // About eight blocks, 512 to 8192 vertices each: larger ones leave fewer seam vertices.
+    const std::size_t nv = order.size();
     const int kBlockBits = std::clamp(static_cast<int>(std::bit_width(nv / 8)) - 1, 9, 13);
+    std::vector<std::uint32_t> block(nv);
+    for (std::size_t i = 0; i < nv; ++i) block[order[i]] = static_cast<std::uint32_t>(i >> kBlockBits);
     block_start_.assign((nv >> kBlockBits) + 2, 0);
-    for (Vertex v : mesh_.vertices()) {
-      if (!free_[v.idx()]) continue;
-      const std::uint32_t b = v.idx() >> kBlockBits;
+    inner_.clear();
+    seam_.clear();
+    std::size_t free = 0;
+    for (std::uint32_t v : order) {
+      if (!free_[v]) continue;
+      ++free;
+      const std::uint32_t b = block[v];
       bool seam = false;
-      for (Vertex u : mesh_.vertices(v)) {
-        const std::uint32_t c = u.idx() >> kBlockBits;
+      for (Vertex u : mesh_.vertices(Vertex(v))) {
+        const std::uint32_t c = block[u.idx()];
         seam = seam || (free_[u.idx()] && c + 1 != b && c != b && c != b + 1);
       }
       if (seam) {
-        seam_.push_back(v.idx());
+        seam_.push_back(v);
       } else {
-        inner_.push_back(v.idx());
+        inner_.push_back(v);
         ++block_start_[b + 1];
       }
     }
     for (std::size_t b = 0; b + 1 < block_start_.size(); ++b)
       block_start_[b + 1] += block_start_[b];
+    return free;
+  }
+
+  // The vertices along a Morton (Z-order) curve through the bounding box, 10 bits an axis;
+  // ties by index, so the order is the same on any machine.
+  std::vector<std::uint32_t> morton_order() const {
+    const std::size_t nv = mesh_.vertices_size();
+    Eigen::AlignedBox3d box;
+    for (std::size_t v = 0; v < nv; ++v) box.extend(mesh_.position(Vertex(v)));
+    const Vector3 size = box.sizes().cwiseMax(1e-300);
+    const auto spread = [](std::uint64_t x) {  // 10 bits to every third of 30
+      x = (x | x << 16) & 0x030000FFull;
+      x = (x | x << 8) & 0x0300F00Full;
+      x = (x | x << 4) & 0x030C30C3ull;
+      return (x | x << 2) & 0x09249249ull;
+    };
+    std::vector<std::uint64_t> key(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+      std::uint64_t code = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double t = (mesh_.position(Vertex(v))[i] - box.min()[i]) / size[i];
+        const auto q = static_cast<std::uint64_t>((t > 0 ? std::min(t, 1.0) : 0.0) * 1023.0);  // NaN: 0
+        code |= spread(q) << i;
+      }
+      key[v] = code << 32 | v;
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<std::uint32_t> order(nv);
+    for (std::size_t i = 0; i < nv; ++i) order[i] = static_cast<std::uint32_t>(key[i]);
+    return order;
   }
 
   // Each sample pulls on the three corners of its closest simplified triangle (CSR by vertex).
