@@ -342,13 +342,16 @@ class Refitter {
                       });
     sample_tri_.assign(samples.size(), kNoTriangle);
     sample_beta_.resize(samples.size());
-    // Walks are independent of each other.
+    // Walks are independent of each other, and a sample's answer does not depend on which
+    // came before (in_fan()): they go by start vertex, so that each fan is prepared about once.
+    const std::vector<std::uint32_t> visit = by_start(samples);
     constexpr std::uint32_t kAskTree = kNoTriangle - 1;
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, samples.size(), 4096),
         [&](const tbb::blocked_range<std::size_t>& range) {
           PreparedFan fan;
-          for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          for (std::size_t k = range.begin(); k < range.end(); ++k) {
+            const std::uint32_t i = visit[k];
             Hit hit;
             if (!in_fan(samples[i], fan, hit) && !walk(samples[i], hit)) {
               sample_tri_[i] = kAskTree;
@@ -385,6 +388,24 @@ class Refitter {
       if (sample_tri_[i] == kNoTriangle) continue;
       for (std::uint32_t k = 0; k < 3; ++k) pulls_[fill[tri_[sample_tri_[i]][k]]++] = i << 2 | k;
     }
+  }
+
+  // The samples' indices grouped by the output vertex their walk starts from (a counting
+  // sort, in index order within a group; those without one last). In the input's order,
+  // consecutive samples of a scan in random vertex order rarely share a start: amo.ply at 10%
+  // prepared 82.6k fans for 90k samples.
+  std::vector<std::uint32_t> by_start(const std::vector<Sample>& samples) const {
+    const std::size_t nv = fan_start_.size() - 1;
+    const auto start = [&](const Sample& s) -> std::size_t {
+      if (!s.seed.is_valid() || s.seed.idx() >= survivor_.size()) return nv;
+      const Vertex v = survivor_[s.seed.idx()];
+      return v.is_valid() && v.idx() < nv ? v.idx() : nv;
+    };
+    std::vector<std::uint32_t> first(nv + 2, 0), visit(samples.size());
+    for (const Sample& s : samples) ++first[start(s) + 1];
+    for (std::size_t v = 0; v <= nv; ++v) first[v + 1] += first[v];
+    for (std::uint32_t i = 0; i < samples.size(); ++i) visit[first[start(samples[i])]++] = i;
+    return visit;
   }
 
   Pull pull(std::uint32_t k) const {
