@@ -70,13 +70,13 @@ void encode_attribute(const CornerTable& table, std::span<const QPoint> q, unsig
 void decode_attribute(const CornerTable& table, std::size_t n, unsigned bits,
                       std::span<const std::uint8_t> rans, std::uint64_t rans_base,
                       std::span<const std::uint8_t> raw, std::uint64_t raw_base,
-                      std::vector<QPoint>& q) {
+                      std::vector<QPoint>& q, unsigned rans_lanes) {
   q.clear();
   if (n == 0) {
     if (!rans.empty() || !raw.empty()) throw DecodeError(rans_base, "attribute data for an empty mesh");
     return;
   }
-  RansDecoder rd(rans, rans_base);
+  RansDecoder rd(rans, rans_base, rans_lanes);
   BitReader br(raw, raw_base);
   decode_positions(table, n, bits, Predictor::kMultiParallelogram, rd, br, q);
   rd.finish();

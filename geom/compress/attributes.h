@@ -38,6 +38,6 @@ void encode_attribute(const CornerTable& table, std::span<const QPoint> q, unsig
 void decode_attribute(const CornerTable& table, std::size_t n, unsigned bits,
                       std::span<const std::uint8_t> rans, std::uint64_t rans_base,
                       std::span<const std::uint8_t> raw, std::uint64_t raw_base,
-                      std::vector<QPoint>& q);
+                      std::vector<QPoint>& q, unsigned rans_lanes = 2);
 
 }  // namespace geom::codec::detail

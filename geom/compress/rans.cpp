@@ -40,9 +40,12 @@ void RansEncoder::encode_flat(std::uint32_t value, unsigned bits) {
 std::vector<std::uint8_t> RansEncoder::finish() const {
   std::vector<std::uint8_t> out;
   out.reserve(entries_.size() / 2 + 16);
-  std::uint32_t x = kRansLow;
-  for (auto it = entries_.rbegin(); it != entries_.rend(); ++it) {
-    const std::uint32_t e = *it;
+  // Backwards, so that the decoder reads each symbol's renormalisation bytes right after
+  // decoding it on its lane.
+  std::uint32_t lane[2] = {kRansLow, kRansLow};
+  for (std::size_t i = entries_.size(); i-- > 0;) {
+    const std::uint32_t e = entries_[i];
+    std::uint32_t& x = lane[i & 1];
     const std::uint32_t start = e >> 16;
     if (e & kFlatTag) {
       const unsigned bits = e & 0xff;
@@ -62,33 +65,37 @@ std::vector<std::uint8_t> RansEncoder::finish() const {
       x = ((x / freq) << kProbBits) + (x % freq) + start;
     }
   }
-  for (int i = 0; i < 4; ++i) {
-    out.push_back(static_cast<std::uint8_t>(x));
-    x >>= 8;
-  }
+  for (int l = 1; l >= 0; --l)
+    for (int i = 0; i < 4; ++i) {
+      out.push_back(static_cast<std::uint8_t>(lane[l]));
+      lane[l] >>= 8;
+    }
   std::reverse(out.begin(), out.end());
   return out;
 }
 
-RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base)
+RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base, unsigned lanes)
     : data_(bytes.data()), next_(data_), end_(data_ + bytes.size()), last_quad_(data_),
-      base_(base) {
-  if (bytes.size() < 4) fail("rANS stream shorter than its 4-byte state");
+      base_(base), two_lanes_(lanes == 2) {
+  const std::size_t state_bytes = two_lanes_ ? 8 : 4;
+  if (bytes.size() < state_bytes)
+    fail(two_lanes_ ? "rANS stream shorter than its two 4-byte states"
+                    : "rANS stream shorter than its 4-byte state");
   last_quad_ = end_ - 4;
-  x_ = (std::uint32_t{data_[0]} << 24) | (std::uint32_t{data_[1]} << 16) |
-       (std::uint32_t{data_[2]} << 8) | data_[3];
-  next_ = data_ + 4;
-  if (x_ < kLow) fail("rANS initial state out of range");
+  x_ = load_be32(data_);
+  y_ = two_lanes_ ? load_be32(data_ + 4) : kLow;
+  next_ = data_ + state_bytes;
+  if (x_ < kLow || y_ < kLow) fail("rANS initial state out of range");
 }
 
 std::uint32_t RansDecoder::decode_flat(unsigned bits) {
-  const std::uint32_t v = x_ & ((1u << bits) - 1);
-  renormalise(x_ >> bits);
+  const std::uint32_t x = x_, v = x & ((1u << bits) - 1);
+  next_state(renormalised(x >> bits));
   return v;
 }
 
 void RansDecoder::finish() const {
-  if (next_ != end_ || x_ != kLow) fail("rANS stream does not end where the encoder finished");
+  if (next_ != end_ || x_ != kLow || y_ != kLow) fail("rANS stream does not end where the encoder finished");
 }
 
 void RansDecoder::fail(const char* what) const {

@@ -45,9 +45,11 @@ struct ResidualModels {
       for (unsigned len = 0; len <= 32; ++len) top.emplace_back(len < 2 ? 1 : len == 2 ? 2 : 4);
     for (unsigned m = 2; m <= kMaxSelect; ++m) subset.emplace_back((1u << m) - 1);
   }
-  /// Codes the modelled bits of a residual z of length len ≥ 2 whose lowest rb bits are raw.
+  /// Codes the modelled bits of a residual z of length len whose lowest rb bits are raw
+  /// (rb = 0 below length 2). Lengths 0 and 1 code their certain symbol too: the decoder
+  /// reads one for every residual, and each symbol takes its turn on the rANS lanes.
   void encode_top(RansEncoder& rans, unsigned axis, unsigned len, std::uint32_t z, unsigned rb) {
-    rans.encode(top[axis * 33 + len], (z >> rb) & (len == 2 ? 1u : 3u));
+    rans.encode(top[axis * 33 + len], len < 2 ? 0u : (z >> rb) & (len == 2 ? 1u : 3u));
   }
 };
 
@@ -158,11 +160,9 @@ class ResidualWriter {
       const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
       const unsigned len = static_cast<unsigned>(std::bit_width(z));
       rans_.encode(m_.length[context(x, count, prev_len_, activity)], len);
-      if (len >= 2) {
-        const unsigned rb = len - 1 - modelled_bits(len);
-        m_.encode_top(rans_, x, len, z, rb);
-        raw_.put(z & ((1u << rb) - 1), rb);
-      }
+      const unsigned rb = len >= 2 ? len - 1 - modelled_bits(len) : 0;
+      m_.encode_top(rans_, x, len, z, rb);
+      if (len >= 2) raw_.put(z & ((1u << rb) - 1), rb);
       prev_len_ = len;
       longest = std::max(longest, len);
     }

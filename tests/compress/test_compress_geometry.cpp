@@ -119,21 +119,35 @@ TEST(EntropyModels, FindTheSymbolOfEverySlotForEveryAlphabet) {
 // that the format names, and their one-symbol form, which the decoder runs where nothing was
 // coded, must leave the stream as it was: anywhere, and up to its last byte.
 TEST(EntropyModels, TinyModelCodesAsSmallModelAndItsCertainSymbolReadsNothing) {
+  // The certain symbol (one-symbol model) is coded too, since each symbol takes its turn on
+  // the rANS lanes; it adds no byte.
   std::mt19937 rng(11);
-  RansEncoder by_small, by_tiny;
-  SmallModel<2> small2;
-  SmallModel<4> small4;
-  TinyModel tiny2(2), tiny4(4);
+  RansEncoder by_small, by_tiny, without_certain;
+  SmallModel<2> small2, plain2;
+  SmallModel<4> small4, plain4;
+  TinyModel tiny2(2), tiny4(4), certain_small(1), certain_tiny(1);
   std::vector<std::pair<bool, unsigned>> coded;  // (four symbols, symbol)
   for (int i = 0; i < 5000; ++i) {
     const bool four = rng() % 3 != 0;
     const unsigned s = rng() % 4 == 0 ? rng() % (four ? 4 : 2) : 0;  // skewed
     coded.emplace_back(four, s);
+    by_small.encode(certain_small, 0);
     four ? by_small.encode(small4, s) : by_small.encode(small2, s);
+    by_tiny.encode(certain_tiny, 0);
     by_tiny.encode(four ? tiny4 : tiny2, s);
+    four ? without_certain.encode(plain4, s) : without_certain.encode(plain2, s);
+    // Two certain symbols in a row keep the next symbol on its lane.
+    without_certain.encode(certain_small, 0);
+    without_certain.encode(certain_small, 0);
   }
+  for (int i = 0; i < 3000; ++i) by_tiny.encode(certain_tiny, 0), by_small.encode(certain_small, 0);
   const std::vector<std::uint8_t> bytes = by_tiny.finish();
   ASSERT_EQ(bytes, by_small.finish());
+  RansEncoder plain;
+  SmallModel<2> p2;
+  SmallModel<4> p4;
+  for (const auto& [four, s] : coded) four ? plain.encode(p4, s) : plain.encode(p2, s);
+  EXPECT_EQ(without_certain.finish().size(), plain.finish().size());
   RansDecoder rd(bytes, 0);
   TinyModel dec2(2), dec4(4), certain(1);
   for (std::size_t i = 0; i < coded.size(); ++i) {
@@ -142,6 +156,32 @@ TEST(EntropyModels, TinyModelCodesAsSmallModelAndItsCertainSymbolReadsNothing) {
   }
   for (int i = 0; i < 3000; ++i) ASSERT_EQ(rd.decode(certain), 0u);  // past rebuilds, at the end
   rd.finish();
+}
+
+TEST(EntropyModels, TwoLanesDecodeWhatTheyCodeAndOneLaneStreamsStillDecode) {
+  // Symbols of several models and flat values, decoded on two lanes; and a one-lane stream
+  // (as encoders before two lanes wrote them), built here by hand: one state, 4 bytes.
+  std::mt19937 rng(5);
+  RansEncoder re;
+  AdaptiveModel m(20);
+  std::vector<unsigned> sym;
+  for (int i = 0; i < 20000; ++i) {
+    const unsigned s = rng() % 5 == 0 ? rng() % 20 : rng() % 3;
+    sym.push_back(s);
+    if (i % 7 == 0) re.encode_flat(s, 5); else re.encode(m, s);
+  }
+  const std::vector<std::uint8_t> bytes = re.finish();
+  RansDecoder rd(bytes, 0);
+  AdaptiveModel d(20);
+  for (int i = 0; i < 20000; ++i) ASSERT_EQ(i % 7 == 0 ? rd.decode_flat(5) : rd.decode(d), sym[i]) << i;
+  rd.finish();
+  // A one-lane stream of one flat 3-bit value 5: state 2^23 coded gives 2^26 + 5, no
+  // renormalisation byte.
+  const std::vector<std::uint8_t> one_lane{0x04, 0x00, 0x00, 0x05};
+  RansDecoder old(one_lane, 0, 1);
+  EXPECT_EQ(old.decode_flat(3), 5u);
+  old.finish();
+  EXPECT_THROW(RansDecoder(one_lane, 0, 2), DecodeError);  // two lanes need 8 bytes
 }
 
 TEST(PointChain, WalksALineGivenInRandomOrder) {

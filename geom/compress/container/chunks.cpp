@@ -327,7 +327,7 @@ CompressResult write_chunked(std::vector<Chunk>& chunks, const Streams& merges,
   ByteWriter w;
   for (std::uint8_t b : kMagic) w.u8(b);
   w.u8(kVersionChunked);
-  w.u8(0);
+  w.u8(kFlagTwoLanes);  // of the merge map's rANS section; each chunk has its own flags
   w.varint(chunks.size());
   write_section(w, merges.rans);
   write_section(w, merges.raw);
@@ -373,6 +373,7 @@ void decode_chunk(std::span<const std::uint8_t> bytes, std::span<const std::uint
 
 struct ChunkedLayout {
   std::span<const std::uint8_t> merge_rans, merge_raw;
+  unsigned merge_lanes = 1;
   std::uint64_t merge_at = 0;
   std::vector<std::span<const std::uint8_t>> chunks;
 };
@@ -380,12 +381,14 @@ struct ChunkedLayout {
 ChunkedLayout read_layout(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes);
   for (int i = 0; i < 5; ++i) r.u8();  // magic and version: is_chunked
-  if (r.u8() != 0) throw DecodeError(r.offset() - 1, "unknown flags for version 3");
+  const std::uint8_t flags = r.u8();
+  if (flags & ~kFlagTwoLanes) throw DecodeError(r.offset() - 1, "unknown flags for version 3");
   const std::uint64_t n = r.varint();
   if (n < 2 || n > kMaxChunks || n > r.remaining())
     throw DecodeError(r.offset() - 1, "chunk count " + std::to_string(n) + " outside 2–" +
                                           std::to_string(kMaxChunks) + " or beyond the stream");
   ChunkedLayout l;
+  l.merge_lanes = rans_lanes(flags);
   l.merge_at = r.offset();
   l.merge_rans = r.take(r.varint());
   l.merge_raw = r.take(r.varint());
@@ -426,7 +429,7 @@ std::vector<std::vector<Merge>> read_merges(const std::vector<Core>& cores,
   const auto base = [&](std::span<const std::uint8_t> s) {
     return static_cast<std::uint64_t>(s.data() - bytes.data());
   };
-  RansDecoder rd(l.merge_rans, base(l.merge_rans));
+  RansDecoder rd(l.merge_rans, base(l.merge_rans), l.merge_lanes);
   BitReader br(l.merge_raw, base(l.merge_raw));
   MergeModels m;
   std::vector<std::vector<Merge>> merges(cores.size());

@@ -94,7 +94,7 @@ void codec::detail::decode_core_into(std::span<const std::uint8_t> bytes, Core& 
     throw DecodeError(r.offset() - 1, "unsupported stream version " + std::to_string(version) +
                                           " (this decoder reads versions 1, 2 and 3)");
   h.flags = r.u8();
-  if (h.flags & ~(version == kVersion ? kKnownFlags & 7 : kKnownFlags))
+  if (h.flags & ~(version == kVersion ? kKnownFlagsV1 : kKnownFlags))
     throw DecodeError(r.offset() - 1, "unknown flags for version " + std::to_string(version));
   const std::uint8_t pred = r.u8();
   if (pred > 7) throw DecodeError(r.offset() - 1, "unknown predictor " + std::to_string(pred));
@@ -182,7 +182,7 @@ void codec::detail::decode_core_into(std::span<const std::uint8_t> bytes, Core& 
     const bool polygons = h.flags & kFlagPolygons;
     const Traversal trav = (h.flags & kFlagLeftFirst) ? Traversal::kLeftFirst : Traversal::kRightFirst;
     if (h.n_triangles > 0) {
-      RansDecoder rd(conn_rans, conn_base);
+      RansDecoder rd(conn_rans, conn_base, rans_lanes(h.flags));
       BitReader br(conn_raw, conn_raw_base);
       decode_connectivity(n_tri, polygons, trav, rd, br, core.table, &scratch,
                           {static_cast<std::size_t>(h.n_vertices - h.n_isolated), degree});
@@ -194,7 +194,8 @@ void codec::detail::decode_core_into(std::span<const std::uint8_t> bytes, Core& 
   if (core.table.n_vertices + h.n_isolated != h.n_vertices)
     throw DecodeError(counts_at, "vertex count disagrees with the connectivity");
   if (h.n_vertices > 0) {
-    RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()));
+    RansDecoder rd(geom_rans, static_cast<std::uint64_t>(geom_rans.data() - bytes.data()),
+                   rans_lanes(h.flags));
     BitReader br(geom_raw, static_cast<std::uint64_t>(geom_raw.data() - bytes.data()));
     if (grows) {
       decode_positions_growth(core.table, static_cast<std::size_t>(h.n_vertices), h.quantiser.bits,
@@ -219,10 +220,10 @@ void codec::detail::decode_core_into(std::span<const std::uint8_t> bytes, Core& 
   const auto nv = static_cast<std::size_t>(h.n_vertices);
   if (h.flags & kFlagNormals)
     decode_attribute(core.table, nv, h.normal_bits, attr[0][0], base(attr[0][0]), attr[0][1],
-                     base(attr[0][1]), core.normals);
+                     base(attr[0][1]), core.normals, rans_lanes(h.flags));
   if (h.flags & kFlagTexcoords)
     decode_attribute(core.table, nv, h.uv_quantiser.bits, attr[1][0], base(attr[1][0]),
-                     attr[1][1], base(attr[1][1]), core.uvs);
+                     attr[1][1], base(attr[1][1]), core.uvs, rans_lanes(h.flags));
 }
 
 namespace {
@@ -258,7 +259,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
       if (!core.order_rans.empty() || !core.order_raw.empty())
         throw DecodeError(core.order_offset, "order data for an empty mesh");
     } else {
-      RansDecoder rd(core.order_rans, base);
+      RansDecoder rd(core.order_rans, base, rans_lanes(h.flags));
       BitReader br(core.order_raw, static_cast<std::uint64_t>(core.order_raw.data() - bytes.data()));
       GammaModel vm, fm, rm;
       std::int64_t prev = 0;
@@ -328,7 +329,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
   }
   if (h.flags & kFlagExtension)
     apply_extension(decode_extension(bytes, core.extension_at, core.table, nv, h.flags & kFlagNormals,
-                                     h.flags & kFlagTexcoords),
+                                     h.flags & kFlagTexcoords, rans_lanes(h.flags)),
                     mesh, core.table, vertex_slot, face_slot, result.attributes);
   return result;
 }

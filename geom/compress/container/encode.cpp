@@ -253,7 +253,7 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   const bool has_attributes =
       !attributes.normals.empty() || !attributes.uvs.empty() || !tail.extension.bytes.empty();
   w.u8(has_attributes ? kVersionAttributes : kVersion);
-  std::uint8_t flags = 0;
+  std::uint8_t flags = kFlagTwoLanes;  // every RansEncoder writes two lanes
   if (in.options.preserve_order) flags |= kFlagPreserveOrder;
   if (in.flat.polygons) flags |= kFlagPolygons;
   if (c.traversal() == Traversal::kLeftFirst) flags |= kFlagLeftFirst;

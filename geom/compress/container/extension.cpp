@@ -290,7 +290,7 @@ ExtensionEncoding encode_extension(const SurfaceMesh& mesh, const CompressOption
 namespace {
 
 void decode_corner_entry(ByteReader& r, std::span<const std::uint8_t> stream,
-                         const CornerTable& table, DecodedCornerAttribute& a) {
+                         const CornerTable& table, DecodedCornerAttribute& a, unsigned lanes) {
   a.bits = r.u8();
   if (a.normal ? (a.bits < 2 || a.bits > 20) : (a.bits < 1 || a.bits > 30))
     throw DecodeError(r.offset() - 1, "corner attribute bits out of range");
@@ -312,14 +312,15 @@ void decode_corner_entry(ByteReader& r, std::span<const std::uint8_t> stream,
       throw DecodeError(rans_at, "corner attribute data for a mesh without faces");
     return;
   }
-  RansDecoder rd(rans, static_cast<std::uint64_t>(rans.data() - stream.data()));
+  RansDecoder rd(rans, static_cast<std::uint64_t>(rans.data() - stream.data()), lanes);
   BitReader br(raw, static_cast<std::uint64_t>(raw.data() - stream.data()));
   decode_corner_values(table, a.bits, rd, br, a.values);
   rd.finish();
 }
 
 void decode_generic_entry(ByteReader& r, std::span<const std::uint8_t> stream,
-                          const CornerTable& table, std::size_t nv, DecodedGeneric& g) {
+                          const CornerTable& table, std::size_t nv, DecodedGeneric& g,
+                          unsigned lanes) {
   const std::uint8_t len = r.u8();
   if (len == 0) throw DecodeError(r.offset() - 1, "empty attribute name");
   const auto name = r.take(len);
@@ -352,7 +353,7 @@ void decode_generic_entry(ByteReader& r, std::span<const std::uint8_t> stream,
     }
     if (nv > kMaxVerticesPerByte * rans.size() + 64)
       throw DecodeError(at, "attribute section too short for the vertex count");
-    RansDecoder rd(rans, static_cast<std::uint64_t>(rans.data() - stream.data()));
+    RansDecoder rd(rans, static_cast<std::uint64_t>(rans.data() - stream.data()), lanes);
     BitReader br(raw, static_cast<std::uint64_t>(raw.data() - stream.data()));
     decode_positions(table, nv, bits, Predictor::kMultiParallelogram, rd, br, q);
     rd.finish();
@@ -408,7 +409,7 @@ std::vector<Halfedge> decoded_corner_halfedges(const SurfaceMesh& mesh, const Co
 
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
                                    const CornerTable& table, std::size_t n_vertices,
-                                   bool vertex_normals, bool vertex_uvs) {
+                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes) {
   ByteReader r(stream);
   r.take(begin);
   ExtensionDecoding out;
@@ -430,12 +431,12 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
       a.from_vertex = mode == 1;
       if (a.from_vertex && !(a.normal ? vertex_normals : vertex_uvs))
         throw DecodeError(at + 1, "corner attribute refers to a vertex attribute the stream lacks");
-      if (!a.from_vertex) decode_corner_entry(r, stream, table, a);
+      if (!a.from_vertex) decode_corner_entry(r, stream, table, a, rans_lanes);
       a.bytes = r.offset() - at;
       out.corners.push_back(std::move(a));
     } else if (kind == kGeneric) {
       DecodedGeneric g;
-      decode_generic_entry(r, stream, table, n_vertices, g);
+      decode_generic_entry(r, stream, table, n_vertices, g, rans_lanes);
       for (const DecodedGeneric& o : out.generic)
         if (o.name == g.name) throw DecodeError(at, "attribute '" + g.name + "' given twice");
       g.bytes = r.offset() - at;

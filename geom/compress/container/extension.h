@@ -63,7 +63,7 @@ struct ExtensionDecoding {
 /// trailing bytes.
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
                                    const CornerTable& table, std::size_t n_vertices,
-                                   bool vertex_normals, bool vertex_uvs);
+                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes);
 
 /// Put the decoded attributes on the rebuilt mesh: decoded vertex i is mesh vertex
 /// vertex_slot[i], decoded polygon j (in order of lowest triangle) is mesh face face_slot[j].

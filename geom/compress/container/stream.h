@@ -12,8 +12,9 @@
 namespace geom::codec::detail {
 
 inline constexpr std::uint8_t kMagic[4] = {'G', 'M', 'C', 0x1A};
-// Version 2 adds the attribute flags and fields; streams without attributes stay version 1,
-// byte for byte as before, so older decoders keep reading them.
+// Version 2 adds the attribute flags and fields; streams without attributes stay version 1.
+// Encoders since TWO_LANES set it in every stream, so decoders from before reject their
+// streams by that flag rather than misreading them.
 inline constexpr std::uint8_t kVersion = 1;
 inline constexpr std::uint8_t kVersionAttributes = 2;
 inline constexpr std::uint8_t kFlagPreserveOrder = 1;
@@ -23,7 +24,14 @@ inline constexpr std::uint8_t kFlagNormals = 8;
 inline constexpr std::uint8_t kFlagTexcoords = 16;
 // Per-corner and generic attributes, a block after every other section (extension.h).
 inline constexpr std::uint8_t kFlagExtension = 128;
-inline constexpr std::uint8_t kKnownFlags = 31 | kFlagExtension;
+// Every rANS section of the stream interleaves two states (rans.h, FORMAT.md); without it,
+// one (the streams of earlier encoders).
+inline constexpr std::uint8_t kFlagTwoLanes = 32;
+inline constexpr std::uint8_t kKnownFlags = 31 | kFlagTwoLanes | kFlagExtension;
+// The flags a version 1 stream may have.
+inline constexpr std::uint8_t kKnownFlagsV1 = 7 | kFlagTwoLanes;
+/// The rANS lanes of a stream with these flags.
+inline unsigned rans_lanes(std::uint8_t flags) { return (flags & kFlagTwoLanes) ? 2 : 1; }
 // Conforming streams cannot hold more than this many triangles per connectivity byte or
 // vertices per geometry byte (kMinFreq bounds every symbol's cost from below; FORMAT.md).
 inline constexpr std::uint64_t kMaxTrianglesPerByte = 2048;
