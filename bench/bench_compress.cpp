@@ -17,9 +17,11 @@
 // that one); decode_flat_wall_ms allocates anew each time, and the fresh pages the kernel
 // must clear are part of what it measures.
 //
-// Usage: bench_compress [--quick] [--only NAME] [--no-sweep]
+// Usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR]
 //   --quick: a 100k-triangle synthetic mesh, no sweep; --only: meshes whose name contains
-//   NAME (the synthetic one is "...-sub-flip-shuffled"); --no-sweep: skip the bits sweep.
+//   NAME (the synthetic one is "...-sub-flip-shuffled"); --no-sweep: skip the bits sweep;
+//   --save-streams: write each geom stream of the main table to DIR/<mesh> <codec>.gmc, so
+//   that a decoder change can be timed and profiled on exactly these bytes.
 // A third table compares the cost of per-corner texture coordinates with seams (real textured
 // meshes from GEOM_DATA_DIR) against Draco's, in bench-out/compress_texcoords.csv.
 // Writes bench-out/compress.csv and bench-out/compress_bits.csv; the accuracy chart (one
@@ -156,6 +158,8 @@ struct Row {
   std::size_t decoded_vertices = 0;  // what the decoder returns (Draco drops unreferenced ones)
 };
 
+std::filesystem::path save_streams;  // --save-streams (empty: none)
+
 Row run_ours(const Flat& f, const SurfaceMesh& m, unsigned bits, int level, bool preserve,
              bool one_stream = false) {
   Row r;
@@ -167,6 +171,11 @@ Row run_ours(const Flat& f, const SurfaceMesh& m, unsigned bits, int level, bool
   const CpuWall enc = cpu_wall_min([&] { c = compress(m, options); }, 2);
   r.enc = enc.cpu, r.enc_wall = enc.wall;
   r.bytes = c.bytes.size();
+  if (!save_streams.empty()) {
+    std::filesystem::create_directories(save_streams);
+    std::ofstream(save_streams / (f.name + " " + r.codec + ".gmc"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(c.bytes.data()), static_cast<std::streamsize>(c.bytes.size()));
+  }
   r.conn_bytes = c.stats.connectivity_bytes + c.stats.order_bytes;
   r.geom_bytes = c.stats.geometry_bytes;
   codec::FlatDecode fd;
@@ -360,8 +369,9 @@ int main(int argc, char** argv) {
     if (a == "--quick") quick = true;
     else if (a == "--no-sweep") sweep_bits = false;
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    else if (a == "--save-streams" && i + 1 < argc) save_streams = argv[++i];
     else {
-      std::cerr << "usage: bench_compress [--quick] [--only NAME] [--no-sweep]\n";
+      std::cerr << "usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR]\n";
       return 2;
     }
   }
