@@ -112,6 +112,7 @@ std::vector<std::pair<std::string, std::vector<V2>>> hard_cases() {
 
 // Usage: bench_compgeom [ROW-SUBSTRING]; with an argument only the matching rows run.
 int main(int argc, char** argv) {
+  if (geom::bench::wants_help(argc, argv, "usage: bench_compgeom [ROW-SUBSTRING]   (only the rows whose name contains it)")) return 0;
   const std::string only = argc > 1 ? argv[1] : "";
   auto want = [&](const std::string& row) {
     return only.empty() || row.find(only) != std::string::npos;

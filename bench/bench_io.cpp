@@ -79,6 +79,7 @@ double read_bytes(const std::filesystem::path& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (geom::bench::wants_help(argc, argv, "usage: bench_io [n]   (a torus of n x n quads split in two; default 708, about 1M triangles)")) return 0;
   const int n = argc > 1 ? std::max(8, std::atoi(argv[1])) : 708;
   const auto dir = std::filesystem::temp_directory_path() / "geom_bench_io";
   std::filesystem::create_directories(dir);

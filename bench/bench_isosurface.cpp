@@ -315,6 +315,7 @@ Point on_torus(std::mt19937_64& rng, double major, double minor) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (geom::bench::wants_help(argc, argv, "usage: bench_isosurface [--sizes 256,512] [--repeats N] [--no-skimage] [--no-openvdb]")) return 0;
   std::vector<std::size_t> sizes = {256, 512};
   int repeats = 5;
   bool skimage = true, openvdb = true;

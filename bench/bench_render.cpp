@@ -146,6 +146,7 @@ void throughput_table(const SurfaceMesh& mesh) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (geom::bench::wants_help(argc, argv, "usage: bench_render [n]   (a bumpy torus of 2 n (n/2) triangles; default 1000, 1M)")) return 0;
   int n = argc > 1 ? std::atoi(argv[1]) : 1000;  // 1000 → 2·1000·500 = 1M triangles
   auto mesh = bumpy_torus(n, n / 2);
   effects_table(mesh);

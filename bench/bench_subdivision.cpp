@@ -237,6 +237,7 @@ std::vector<Point> positions_of(const SurfaceMesh& m) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (geom::bench::wants_help(argc, argv, "usage: bench_subdivision [--quick]")) return 0;
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const int repeats = quick ? 1 : 3;
   const SurfaceMesh sphere = quad_sphere(64);  // 24 576 quads

@@ -64,6 +64,19 @@ CpuWall cpu_wall_min(F&& f, int repeats = 3) {
   return best;
 }
 
+/// True (after printing usage) when the command line asks for help: a benchmark must not
+/// take "--help" for an argument and start a run of minutes.
+inline bool wants_help(int argc, char** argv, const char* usage) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::cout << usage << "\n";
+      return true;
+    }
+  }
+  return false;
+}
+
 inline std::string fmt(double v, int precision = 3) {
   std::ostringstream s;
   s.precision(precision);
