@@ -77,6 +77,8 @@ std::vector<std::uint8_t> RansEncoder::finish() const {
 RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base, unsigned lanes)
     : data_(bytes.data()), next_(data_), end_(data_ + bytes.size()), last_quad_(data_),
       base_(base), two_lanes_(lanes == 2) {
+  if (lanes != 1 && lanes != 2)
+    throw InvalidArgument("RansDecoder: 1 or 2 lanes, got " + std::to_string(lanes));
   const std::size_t state_bytes = two_lanes_ ? 8 : 4;
   if (bytes.size() < state_bytes)
     fail(two_lanes_ ? "rANS stream shorter than its two 4-byte states"
@@ -85,7 +87,9 @@ RansDecoder::RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base
   x_ = load_be32(data_);
   y_ = two_lanes_ ? load_be32(data_ + 4) : kLow;
   next_ = data_ + state_bytes;
-  if (x_ < kLow || y_ < kLow) fail("rANS initial state out of range");
+  // An encoder's states stay in [2^23, 2^31); the fast renormalisation counts on it.
+  constexpr std::uint32_t kHigh = 1u << 31;
+  if (x_ < kLow || y_ < kLow || x_ >= kHigh || y_ >= kHigh) fail("rANS initial state out of range");
 }
 
 std::uint32_t RansDecoder::decode_flat(unsigned bits) {

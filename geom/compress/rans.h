@@ -186,8 +186,9 @@ class alignas(64) SmallModel {
 /// An adaptive model of 1, 2 or 4 symbols chosen at run time that codes exactly as
 /// SmallModel<2> or SmallModel<4> (same counts, rebuilds and frequencies). One type for
 /// the alphabets lets a decoder pick the model by a decoded value without a branch on it.
-/// With one symbol, which is certain (frequency 2^15), decoding leaves the rANS state
-/// as it was and consumes no byte, so a decoder may run it where the format codes nothing.
+/// With one symbol, which is certain (frequency 2^15), coding leaves the rANS state as it
+/// was and costs no byte; it still takes its lane's turn, so the encoder codes it wherever
+/// the decoder runs it.
 class alignas(32) TinyModel {
  public:
   /// Pre: n_symbols is 1, 2 or 4.
@@ -257,7 +258,7 @@ class RansDecoder {
  public:
   /// lanes: 2 for the streams RansEncoder writes, 1 for those of encoders before two-lane
   /// streams (FORMAT.md, flag TWO_LANES). Throws: DecodeError when the buffer cannot hold the
-  /// initial states.
+  /// initial states or one is outside [2^23, 2^31); InvalidArgument for other lane counts.
   RansDecoder(std::span<const std::uint8_t> bytes, std::uint64_t base, unsigned lanes = 2);
 
   template <class Model>  // AdaptiveModel, SmallModel or TinyModel
@@ -273,7 +274,7 @@ class RansDecoder {
   }
   std::uint32_t decode_flat(unsigned bits);
   /// Throws: DecodeError unless the stream ended exactly where the encoder finished (every
-  /// byte consumed and the state back at its initial value): catches most corruption.
+  /// byte consumed and every state back at its initial value): catches most corruption.
   void finish() const;
   /// Absolute byte offset of the next unread byte (for error messages).
   std::uint64_t offset() const { return base_ + static_cast<std::uint64_t>(next_ - data_); }

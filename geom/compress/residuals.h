@@ -29,8 +29,8 @@ inline constexpr unsigned kLengthClasses = 12;
 struct ResidualModels {
   std::vector<AdaptiveModel> length;
   /// The modelled bits below the leading one (modelled_bits(len)), per axis and length:
-  /// top[axis * 33 + len] has one symbol for lengths 0 and 1 (certain: never coded, and
-  /// decoding it reads nothing), two for length 2 and four for lengths 3 … 32. One model
+  /// top[axis * 33 + len] has one symbol for lengths 0 and 1 (certain: coded on both sides
+  /// for its lane turn, costing no byte), two for length 2 and four for lengths 3 … 32. One model
   /// type for every length, so that the decoder runs the same steps whatever the length:
   /// branches on it mispredicted about twice a vertex. Fixed alphabets, so the decoder's
   /// symbol search is three compares.

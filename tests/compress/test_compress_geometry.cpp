@@ -116,8 +116,8 @@ TEST(EntropyModels, FindTheSymbolOfEverySlotForEveryAlphabet) {
 }
 
 // The residual tops' models (TinyModel) must code exactly as the SmallModels of their size
-// that the format names, and their one-symbol form, which the decoder runs where nothing was
-// coded, must leave the stream as it was: anywhere, and up to its last byte.
+// that the format names, and their one-symbol form must cost nothing: anywhere, and up to
+// the stream's last byte.
 TEST(EntropyModels, TinyModelCodesAsSmallModelAndItsCertainSymbolReadsNothing) {
   // The certain symbol (one-symbol model) is coded too, since each symbol takes its turn on
   // the rANS lanes; it adds no byte.
@@ -182,6 +182,10 @@ TEST(EntropyModels, TwoLanesDecodeWhatTheyCodeAndOneLaneStreamsStillDecode) {
   EXPECT_EQ(old.decode_flat(3), 5u);
   old.finish();
   EXPECT_THROW(RansDecoder(one_lane, 0, 2), DecodeError);  // two lanes need 8 bytes
+  // States no encoder writes: 2^31 and above, below 2^23; and lane counts other than 1, 2.
+  EXPECT_THROW(RansDecoder(std::vector<std::uint8_t>{0x80, 0, 0, 0}, 0, 1), DecodeError);
+  EXPECT_THROW(RansDecoder(std::vector<std::uint8_t>{0x00, 0x7f, 0xff, 0xff}, 0, 1), DecodeError);
+  EXPECT_THROW(RansDecoder(one_lane, 0, 3), InvalidArgument);
 }
 
 TEST(PointChain, WalksALineGivenInRandomOrder) {
