@@ -2,7 +2,9 @@
 // legacy/ were written by the encoder of commit 3d77444 from data/sample.obj (default
 // options, and --preserve-order), from it with radial normals and per-corner texture
 // coordinates (version 2, extension block), and from its Catmull-Clark level 2 (50688
-// triangles) as a chunked stream (--bits 8 --chunk-triangles 16384). A misread lane count
+// triangles) as a chunked stream (--bits 8 --chunk-triangles 16384); and from data/sample.obj
+// at level 9 (growth-order predictor 7) and with a per-vertex colour (an ascii PLY with red,
+// green and blue: a generic attribute in the extension block). A misread lane count
 // fails the sections' end check (every state back at 2^23, every byte consumed).
 
 #include <geom/compress/container/codec.h>
@@ -72,6 +74,14 @@ TEST(CompressLegacy, OneLaneStreamsOfEveryKindDecode) {
   EXPECT_EQ(a.mesh.n_faces(), input.n_faces());
   EXPECT_TRUE(a.mesh.has_property<Vertex>("v:normal"));
   EXPECT_TRUE(a.mesh.has_property<Halfedge>("h:texcoord"));
+  // Predictor 7 (growth order, coded subsets) and a generic attribute's planes.
+  const std::vector<std::uint8_t> growth = fixture("sample_growth_one_lane.gmc");
+  ASSERT_EQ(growth[6], 7);
+  EXPECT_EQ(decompress(growth).mesh.n_vertices(), input.n_vertices());
+  const DecompressResult colour = decompress(fixture("sample_colour_one_lane.gmc"));
+  EXPECT_EQ(colour.mesh.n_vertices(), input.n_vertices());
+  ASSERT_EQ(colour.attributes.size(), 1u);
+  EXPECT_EQ(colour.attributes[0].name, "v:color");
   // Version 3: the merge map's section and each chunk's.
   const std::vector<std::uint8_t> chunked = fixture("sample_chunked_one_lane.gmc");
   ASSERT_EQ(chunked[4], 3);
