@@ -11,6 +11,7 @@
 // --peers-from takes OpenMesh's and CGAL's rows from an earlier bench-out/lod.csv instead of
 // running them (their results are deterministic; only their times drift): a change to ours
 // is judged against the whole error matrix in seconds rather than minutes. Rows it lacks run.
+// bench/reference/lod_peers.csv holds them from a full run (their times are that machine's).
 //
 // After the table, a summary gives each target's error ratios of ours (the default) to the
 // best peer and counts the losses: the goal is every ratio below 1 within 1.5x
