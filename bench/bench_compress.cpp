@@ -364,6 +364,8 @@ void texcoord_table(const std::filesystem::path& dir, unsigned bits, const std::
 int main(int argc, char** argv) {
   bool quick = false, sweep_bits = true;
   std::string only;
+  const char* const usage = "usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR]";
+  if (wants_help(argc, argv, usage)) return 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true;
@@ -371,7 +373,7 @@ int main(int argc, char** argv) {
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--save-streams" && i + 1 < argc) save_streams = argv[++i];
     else {
-      std::cerr << "usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR]\n";
+      std::cerr << usage << "\n";
       return 2;
     }
   }

@@ -218,18 +218,14 @@ int main(int argc, char** argv) {
   double attr_weight = 1.0;
   std::string only;
   std::string peers_from;
-  const auto usage = [] {
-    std::cout << "usage: bench_lod [--faces N] [--peers LIST] [--slow-max-faces N] [--attr-faces N]\n"
-                 "                 [--attribute-weight W] [--only NAME] [--peers-from CSV]\n"
-                 "peers: ours,ours_plain,ours_refit,meshopt,openmesh,cgal,ours_attr,meshopt_attr\n"
-                 "(see the comment at the top of bench/bench_lod.cpp)\n";
-  };
+  const char* const usage =
+      "usage: bench_lod [--faces N] [--peers LIST] [--slow-max-faces N] [--attr-faces N]\n"
+      "                 [--attribute-weight W] [--only NAME] [--peers-from CSV]\n"
+      "peers: ours,ours_plain,ours_refit,meshopt,openmesh,cgal,ours_attr,meshopt_attr\n"
+      "(see the comment at the top of bench/bench_lod.cpp)";
+  if (wants_help(argc, argv, usage)) return 0;
   for (int i = 1; i < argc; i += 2) {
     const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      usage();
-      return 0;
-    }
     if (i + 1 >= argc) {
       std::cerr << "bench_lod: " << arg << " needs a value\n";
       return 2;
@@ -250,8 +246,7 @@ int main(int argc, char** argv) {
         s = e + 1;
       }
     } else {
-      std::cerr << "bench_lod: unknown option " << arg << "\n";
-      usage();
+      std::cerr << "bench_lod: unknown option " << arg << "\n" << usage << "\n";
       return 2;
     }
   }

@@ -129,9 +129,7 @@ void encode_positions(const CornerTable& table, std::span<const QPoint> q, unsig
       const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
       const unsigned len = static_cast<unsigned>(std::bit_width(z));
       rans.encode(m.length[context(x, count, prev_len, activity)], len);
-      const unsigned rb = len >= 2 ? len - 1 - modelled_bits(len) : 0;
-      m.encode_top(rans, x, len, z, rb);
-      if (len >= 2) raw.put(z & ((1u << rb) - 1), rb);
+      m.encode_below_length(rans, raw, x, len, z);
       prev_len = len;
       if (len > rlen[w]) rlen[w] = static_cast<std::uint8_t>(len);
     }
@@ -199,9 +197,7 @@ void encode_positions_each(const CornerTable& t, std::span<const QPoint> q, unsi
         const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
         const unsigned len = static_cast<unsigned>(std::bit_width(z));
         rans[j].encode(m.length[context(x, count[j], prev_len[j], activity[j])], len);
-        const unsigned rb = len >= 2 ? len - 1 - modelled_bits(len) : 0;
-        m.encode_top(rans[j], x, len, z, rb);
-        if (len >= 2) raw[j].put(z & ((1u << rb) - 1), rb);
+        m.encode_below_length(rans[j], raw[j], x, len, z);
         prev_len[j] = len;
         std::uint8_t& rl = rlen[w * np + j];
         if (len > rl) rl = static_cast<std::uint8_t>(len);

@@ -288,6 +288,7 @@ class RansDecoder {
   // x is the state after the symbol; returns it renormalised.
   std::uint32_t renormalised(std::uint32_t x) {
     if (next_ <= last_quad_) [[likely]] {
+      // x − 2^23 and x − 2^15 are negative (top bit set) exactly when a byte is due: x < 2^31.
       const unsigned n = ((x - kLow) >> 31) + ((x - (kLow >> 8)) >> 31);
       const std::uint64_t wide = (std::uint64_t{x} << 32) | load_be32(next_);
       next_ += n;

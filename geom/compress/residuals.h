@@ -20,6 +20,9 @@ namespace geom::codec::detail {
 
 inline constexpr unsigned kLengthClasses = 12;
 
+/// Bits below the leading one that are modelled (the rest are close to uniform).
+inline unsigned modelled_bits(unsigned len) { return len <= 2 ? (len == 2 ? 1 : 0) : 2; }
+
 /// Residual models. A residual's bit length is coded adaptively in a context of its axis,
 /// how many parallelograms backed the prediction (more ⇒ smaller residuals) and the length
 /// of the previous residual (errors are locally correlated); the first bit below the
@@ -51,6 +54,14 @@ struct ResidualModels {
   void encode_top(RansEncoder& rans, unsigned axis, unsigned len, std::uint32_t z, unsigned rb) {
     rans.encode(top[axis * 33 + len], len < 2 ? 0u : (z >> rb) & (len == 2 ? 1u : 3u));
   }
+  /// Codes what follows a residual's length len: its modelled bits (encode_top), then the
+  /// raw ones. The one sequence every position coder runs, so that all code the same turns.
+  void encode_below_length(RansEncoder& rans, BitWriter& raw, unsigned axis, unsigned len,
+                           std::uint32_t z) {
+    const unsigned rb = len >= 2 ? len - 1 - modelled_bits(len) : 0;
+    encode_top(rans, axis, len, z, rb);
+    if (len >= 2) raw.put(z & ((1u << rb) - 1), rb);
+  }
 };
 
 /// −log2(f / 2^15) for every frequency f ≤ 2^15: what a symbol of frequency f costs, for the
@@ -65,8 +76,6 @@ inline float symbol_bits(std::uint32_t f) {
   return table[f];
 }
 
-/// Bits below the leading one that are modelled (the rest are close to uniform).
-inline unsigned modelled_bits(unsigned len) { return len <= 2 ? (len == 2 ? 1 : 0) : 2; }
 
 /// The residual length context: the neighbours' mean residual length (local roughness),
 /// blended with this vertex's previous axis once one is known.
@@ -160,9 +169,7 @@ class ResidualWriter {
       const auto z = static_cast<std::uint32_t>(r >= 0 ? 2 * r : -2 * r - 1);
       const unsigned len = static_cast<unsigned>(std::bit_width(z));
       rans_.encode(m_.length[context(x, count, prev_len_, activity)], len);
-      const unsigned rb = len >= 2 ? len - 1 - modelled_bits(len) : 0;
-      m_.encode_top(rans_, x, len, z, rb);
-      if (len >= 2) raw_.put(z & ((1u << rb) - 1), rb);
+      m_.encode_below_length(rans_, raw_, x, len, z);
       prev_len_ = len;
       longest = std::max(longest, len);
     }
