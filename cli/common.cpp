@@ -134,6 +134,11 @@ void check_not_input(const std::string& output, const std::vector<std::string>& 
 
 void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& inputs,
                   const CommonOptions& common, WriteOptions write, const std::string& path) {
+  write_output(to_soup(mesh), inputs, common, write, path);
+}
+
+void write_output(const PolygonSoup& soup, const std::vector<std::string>& inputs,
+                  const CommonOptions& common, WriteOptions write, const std::string& path) {
   const std::string out = path.empty() ? common.output : path;
   if (out.empty()) throw UsageError("no output file given (-o/--output)");
   check_not_input(out, inputs, common);
@@ -143,7 +148,7 @@ void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& input
   Progress progress(out == "-" ? std::string("<stdout>") : fs::path(out).filename().string(),
                     !common.quiet);
   progress.update(0.0, "writing");
-  save_mesh(mesh, out, write);
+  write_soup(soup, out, write);
 }
 
 void report(const CommonOptions& common, const nlohmann::json& j, const std::string& text) {

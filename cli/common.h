@@ -107,6 +107,10 @@ void check_not_input(const std::string& output, const std::vector<std::string>& 
 void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& inputs,
                   const CommonOptions& common, WriteOptions write = {},
                   const std::string& path = {});
+/// The same for a soup (what a mesh cannot hold, e.g. a non-manifold vertex).
+void write_output(const PolygonSoup& soup, const std::vector<std::string>& inputs,
+                  const CommonOptions& common, WriteOptions write = {},
+                  const std::string& path = {});
 
 /// Prints `j` (with --json) or `text` (otherwise) on stdout, nothing with --quiet unless --json.
 void report(const CommonOptions& common, const nlohmann::json& j, const std::string& text);

@@ -5,6 +5,7 @@
 
 #include <geom/compress/container/codec.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -26,17 +27,16 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
   if (!out) throw Error("cannot write " + path);
 }
 
-/// Loading splits non-manifold edges and vertices apart; the stream could not undo that, so
-/// decoding would silently return a different mesh. Refuse instead, naming the elements.
-void reject_nonmanifold(const std::string& input, const BuildReport& report) {
+/// Loading splits non-manifold edges and vertices apart. The stream then records which
+/// vertices are one (CompressOptions::vertex_origin), so that decompression writes the
+/// source's vertices again; returns how many copies the split made (0: none).
+std::size_t record_split(const BuildReport& report, CompressOptions& options) {
   if (report.split_nonmanifold_edges + report.split_nonmanifold_vertices + report.detached_faces == 0)
-    return;
-  std::string what;
-  for (const std::string& m : report.messages)
-    if (m.find("non-manifold") != std::string::npos) what += (what.empty() ? "" : "; ") + m;
-  throw InvalidArgument(input + ": non-manifold input (" + what +
-                        "); geom compress codes manifold meshes only, since the split would not "
-                        "be undone on decompression: make it manifold first (e.g. geom repair)");
+    return 0;
+  options.vertex_origin = report.vertex_origin;
+  std::vector<std::uint32_t> sorted = report.vertex_origin;
+  std::sort(sorted.begin(), sorted.end());
+  return sorted.size() - static_cast<std::size_t>(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
 }
 
 }  // namespace
@@ -48,10 +48,13 @@ void add_compress_command(CLI::App& app) {
     CommonOptions common;
   };
   auto args = std::make_shared<Args>();
-  CLI::App* cmd = add_command(app, "compress", "Compress a mesh to a .gmc stream", [args] {
+  CLI::App* cmd = add_command(app, "compress",
+                              "Compress a mesh to a .gmc stream (a non-manifold file too: the "
+                              "vertices loading splits apart are recorded, and decompress joins them)",
+                              [args] {
     check_not_input(args->output, {args->input}, args->common);
     Loaded loaded = load_input(args->input, args->common);
-    reject_nonmanifold(args->input, loaded.report);
+    const std::size_t copies = record_split(loaded.report, args->options);
     const CompressResult r = compress(loaded.mesh, args->options);
     write_bytes(args->output, r.bytes);
     const double nv = std::max<double>(1.0, static_cast<double>(loaded.mesh.n_vertices()));
@@ -67,12 +70,16 @@ void add_compress_command(CLI::App& app) {
                         {"texcoord_max_error", r.stats.texcoord_max_error},
                         {"quantisation_bits", r.stats.bits},
                         {"chunks", r.stats.chunks},
+                        {"split_vertices", copies},
                         {"max_error", r.stats.max_error},
                         {"dropped_properties", r.stats.dropped_properties}};
     for (const AttributeStats& a : r.stats.attributes)
       j["attributes"][a.name] = {{"bytes", a.bytes},
                                  {"bits_per_vertex", 8.0 * a.bytes / nv},
                                  {"max_error", a.max_error}};
+    if (copies > 0 && !args->common.quiet)
+      std::cerr << "geom compress: non-manifold input: coded as a manifold mesh with " << copies
+                << " vertices split apart; geom decompress joins them again\n";
     // Properties the stream cannot hold must not vanish unnoticed.
     if (!r.stats.dropped_properties.empty() && !args->common.quiet) {
       std::string names;
@@ -120,13 +127,17 @@ void add_decompress_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = add_command(app, "decompress", "Decompress a .gmc stream to a mesh file", [args] {
     const DecompressResult r = decompress(read_bytes(args->input));
-    write_output(r.mesh, {args->input}, args->common, {}, args->output);
-    nlohmann::json j = {{"vertices", r.mesh.n_vertices()},
+    // A stream of a non-manifold source: its split vertices are written as one again.
+    PolygonSoup soup = to_soup(r.mesh);
+    if (!r.vertex_representative.empty()) join_vertices(soup, r.vertex_representative);
+    write_output(soup, {args->input}, args->common, {}, args->output);
+    nlohmann::json j = {{"vertices", soup.positions.size()},
                         {"faces", r.mesh.n_faces()},
+                        {"joined_vertices", r.mesh.n_vertices() - soup.positions.size()},
                         {"order_preserved", r.order_preserved},
                         {"max_error", r.max_error}};
     report(args->common, j,
-           "decoded " + std::to_string(r.mesh.n_vertices()) + " vertices, " +
+           "decoded " + std::to_string(soup.positions.size()) + " vertices, " +
                std::to_string(r.mesh.n_faces()) + " faces");
     return 0;
   });

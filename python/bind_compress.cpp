@@ -50,7 +50,8 @@ void bind_compress(py::module_& m) {
       .def_readwrite("normal_bits", &CompressOptions::normal_bits)
       .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits)
       .def_readwrite("attribute_bits", &CompressOptions::attribute_bits)
-      .def_readwrite("chunk_triangles", &CompressOptions::chunk_triangles);
+      .def_readwrite("chunk_triangles", &CompressOptions::chunk_triangles)
+      .def_readwrite("vertex_origin", &CompressOptions::vertex_origin);
   py::class_<AttributeStats>(m, "AttributeStats")
       .def_readonly("name", &AttributeStats::name)
       .def_readonly("bytes", &AttributeStats::bytes)
@@ -91,7 +92,10 @@ void bind_compress(py::module_& m) {
       .def_readonly("order_preserved", &DecompressResult::order_preserved)
       .def_readonly("max_error", &DecompressResult::max_error)
       .def_readonly("texcoord_max_error", &DecompressResult::texcoord_max_error)
-      .def_readonly("attributes", &DecompressResult::attributes);
+      .def_readonly("attributes", &DecompressResult::attributes)
+      .def_property_readonly("vertex_representative", [](const DecompressResult& r) {
+        return index_array(r.vertex_representative);
+      });
   m.def(
       "compress",
       [](const SurfaceMesh& mesh, const CompressOptions& options) {

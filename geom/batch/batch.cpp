@@ -70,6 +70,10 @@ MeshCounts counts(const SurfaceMesh& m) { return {m.n_vertices(), m.n_faces()}; 
 struct State {
   PolygonSoup soup;  // the input as read; kept only while a first "validate" needs it
   SurfaceMesh mesh;
+  // The source vertex of each mesh vertex while the mesh is the one read and reading split
+  // non-manifold vertices apart (a compress step records them, as geom compress does);
+  // empty once a step changes the mesh.
+  std::vector<std::uint32_t> origin;
   std::vector<std::uint8_t> compressed;  // set by a compress step
   bool is_compressed = false;
   WriteOptions write;
@@ -88,13 +92,17 @@ void apply(const Step& step, bool first, State& s) {
             throw Error("validate: " + why);
           }
         } else if constexpr (std::is_same_v<T, RepairStep>) {
-          if (!first) s.mesh = build(to_soup(s.mesh), o.options).mesh;  // first: done on read
+          if (!first) s.mesh = build(to_soup(s.mesh), o.options).mesh, s.origin.clear();  // first: done on read
         } else if constexpr (std::is_same_v<T, SimplifyStep>) {
           s.mesh = simplify(s.mesh, o.options).mesh;
+          s.origin.clear();
         } else if constexpr (std::is_same_v<T, SubdivideStep>) {
           s.mesh = subdivide(s.mesh, o.options).mesh;
+          s.origin.clear();
         } else if constexpr (std::is_same_v<T, CompressStep>) {
-          s.compressed = compress(s.mesh, o.options).bytes;
+          CompressOptions options = o.options;
+          options.vertex_origin = s.origin;
+          s.compressed = compress(s.mesh, options).bytes;
           s.is_compressed = true;
         } else if constexpr (std::is_same_v<T, ConvertStep>) {
           s.write.format = o.format;
@@ -118,6 +126,9 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
               b.dropped_duplicate + b.split_nonmanifold_edges + b.split_nonmanifold_vertices +
               b.flipped_faces + b.collapsed_corners + b.cut_edges + b.detached_faces +
               b.dropped_unreferenced;
+  // (A pipeline that starts with a repair asked for the split mesh.)
+  if (!repair && b.split_nonmanifold_edges + b.split_nonmanifold_vertices + b.detached_faces > 0)
+    s.origin = b.vertex_origin;
   if (!std::holds_alternative<ValidateStep>(p.steps.front().options)) s.soup = {};
   s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
 }

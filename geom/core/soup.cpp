@@ -129,4 +129,37 @@ PolygonSoup to_soup(const SurfaceMesh& mesh) {
   return soup;
 }
 
+void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same) {
+  const std::size_t n = soup.positions.size();
+  if (same.size() != n)
+    throw InvalidArgument("join_vertices: " + std::to_string(same.size()) + " entries for " +
+                          std::to_string(n) + " vertices");
+  // Kept vertices' new numbers; a removed vertex takes its representative's.
+  std::vector<std::uint32_t> id(n);
+  std::uint32_t kept = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::uint32_t r = same[v];
+    if (r >= n || same[r] != r)
+      throw InvalidArgument("join_vertices: vertex " + std::to_string(v) + " joins vertex " +
+                            std::to_string(r) + ", which is not its own representative");
+    if (r == v) id[v] = kept++;
+  }
+  for (std::size_t v = 0; v < n; ++v) id[v] = id[same[v]];
+  auto compact = [&](auto& values) {
+    if (values.empty()) return;
+    std::size_t out = 0;
+    for (std::size_t v = 0; v < n; ++v)
+      if (same[v] == v) values[out++] = values[v];
+    values.resize(out);
+  };
+  compact(soup.positions);
+  compact(soup.vertex_normals);
+  compact(soup.vertex_colors);
+  compact(soup.vertex_texcoords);
+  for (NamedScalars& s : soup.vertex_scalars) compact(s.values);
+  for (std::uint32_t& c : soup.face_indices) c = c < n ? id[c] : c;  // bad indices stay bad
+  for (EdgeSharpness& e : soup.creases) e.a = e.a < n ? id[e.a] : e.a, e.b = e.b < n ? id[e.b] : e.b;
+  for (VertexSharpness& c : soup.corners) c.v = c.v < n ? id[c.v] : c.v;
+}
+
 }  // namespace geom

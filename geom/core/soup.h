@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -88,5 +89,15 @@ void check_soup(const PolygonSoup& soup);
 /// The mesh's live elements as a soup, vertices and faces renumbered densely in index order,
 /// with every property build() knows about carried over.
 PolygonSoup to_soup(const SurfaceMesh& mesh);
+
+/// Join vertices that are one: every face corner, crease and corner tag at vertex v moves
+/// to same[v], and the vertices that are not their own entry are removed, the others keeping
+/// their order and their per-vertex attributes. same[v] must be a vertex whose own entry is
+/// itself. Undoes build()'s split of non-manifold edges and vertices (vertices with equal
+/// BuildReport::vertex_origin), e.g. with DecompressResult::vertex_representative.
+/// Throws: InvalidArgument naming the vertex when same has not one entry per position, or
+/// an entry is out of range or not its own.
+/// Complexity: O(V + corners).
+void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same);
 
 }  // namespace geom

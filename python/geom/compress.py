@@ -4,6 +4,8 @@ geom/compress/FORMAT.md for the stream."""
 
 from collections import namedtuple
 
+import numpy as np
+
 from . import _geom
 from ._options import make
 
@@ -24,7 +26,7 @@ DecodedArrays.__doc__ = "What decompress_arrays() returns (numpy arrays; see the
 
 def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
              normal_bits=10, texcoord_bits=12, attribute_bits=12, chunk_triangles=262144,
-             return_permutation=False, return_stats=False):
+             vertex_origin=None, return_permutation=False, return_stats=False):
     """Compress ``mesh`` (triangles and polygons, any number of components, boundaries and
     handles) to .gmc bytes.
 
@@ -44,7 +46,10 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     Meshes of at least ``2 * chunk_triangles`` triangles (positions only, order not
     preserved) are split into spatial chunks that encode and decode on every core, about 1 %
     larger than one stream (``stats.chunks`` says how many); 0 keeps one stream, other
-    values must be at least 16384.
+    values must be at least 16384. ``vertex_origin`` (one source vertex index per vertex, as
+    ``load_with_report(path).report.vertex_origin``) marks the vertices that loading split
+    off a non-manifold edge or vertex: the stream records them as one, and
+    ``decompress(data, return_representative=True)`` joins them again.
 
     Returns the bytes, or ``(bytes, Permutation)`` with ``return_permutation=True`` — the
     permutation is the only way to map decoded elements back to the input when the order
@@ -54,6 +59,8 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     options = {"bits": bits, "level": level, "preserve_order": preserve_order,
                "normal_bits": normal_bits, "texcoord_bits": texcoord_bits,
                "attribute_bits": attribute_bits, "chunk_triangles": chunk_triangles}
+    if vertex_origin is not None:
+        options["vertex_origin"] = [int(v) for v in np.asarray(vertex_origin).ravel()]
     if precision is not None:
         if not precision > 0:
             raise _geom.InvalidArgument(f"compress: precision must be positive, got {precision}")
@@ -67,21 +74,29 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     return out if len(out) > 1 else out[0]
 
 
-def decompress(data):
+def decompress(data, return_representative=False):
     """Decode .gmc bytes written by compress().
 
     Returns ``(mesh, permutation)``: ``permutation`` is a Permutation (the identity) when the
     stream was written with ``preserve_order=True`` — the mesh then comes back in input order —
     and None otherwise (the encoder's ``return_permutation`` holds the map then). Every
     position is within the stream's quantisation bound (half a grid step) of the input.
+    With ``return_representative=True`` a third item: for a stream written with
+    ``vertex_origin`` whose vertices share origins, per mesh vertex the lowest mesh vertex
+    that is the same source vertex (``representative[mesh.faces]`` are the source's faces;
+    the vertices ``v`` with ``representative[v] == v`` its vertices), else None.
 
     Raises geom.DecodeError (a ValueError) naming the byte offset for data that is not a
     .gmc stream, of an unsupported version, truncated or corrupted.
     """
     result = _geom.decompress(bytes(data))
+    perm = None
     if result.order_preserved:
-        return result.mesh, Permutation(result.vertex_permutation, result.face_permutation)
-    return result.mesh, None
+        perm = Permutation(result.vertex_permutation, result.face_permutation)
+    if not return_representative:
+        return result.mesh, perm
+    rep = result.vertex_representative
+    return result.mesh, perm, (rep if len(rep) else None)
 
 
 def decompress_arrays(data):

@@ -1,4 +1,5 @@
 #include <geom/batch/batch.h>
+#include <geom/compress/container/codec.h>
 #include <geom/core/errors.h>
 #include <geom/core/validate.h>
 #include <geom/io/io.h>
@@ -6,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 namespace geom::batch {
@@ -149,6 +151,23 @@ TEST_F(Batch, ValidateStepFailsNonManifoldInputThatRepairWouldHide) {
   EXPECT_EQ(r.error, "validate: not manifold: 1 edges with 3 or more faces; 2 non-manifold vertices");
   EXPECT_FALSE(fs::exists(fin_task.output));
   EXPECT_EQ(process(parse_steps({"repair", "compress"}), fin_task).status, "ok");
+}
+
+TEST_F(Batch, CompressRecordsTheSplitOfANonManifoldSourceUnlessARepairCameFirst) {
+  auto representative = [&](const Pipeline& p) {
+    const Task fin_task = tasks(p)[2];
+    EXPECT_EQ(process(p, fin_task, ExistingOutput::kOverwrite).status, "ok");
+    std::ifstream f(fin_task.output, std::ios::binary);
+    const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(f), {}};
+    return decompress(bytes).vertex_representative;
+  };
+  const std::vector<std::uint32_t> rep = representative(parse_steps({"compress"}));
+  ASSERT_FALSE(rep.empty());
+  std::size_t own = 0;
+  for (std::uint32_t v = 0; v < rep.size(); ++v) own += rep[v] == v;
+  EXPECT_EQ(own, fin().positions.size());  // joined, the source's five vertices
+  EXPECT_TRUE(representative(parse_steps({"repair", "compress"})).empty());
+  EXPECT_TRUE(representative(parse_steps({"simplify --ratio 1", "compress"})).empty());
 }
 
 TEST_F(Batch, AStopRequestStartsNoNewFileAndPartialOutputsAreCleanedUp) {

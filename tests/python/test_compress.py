@@ -134,12 +134,35 @@ def test_empty_mesh_round_trips():
     assert len(perm.vertices) == 0
 
 
-def test_cli_rejects_non_manifold_input_naming_the_edge(run, meshes, tmp_path):
-    out = tmp_path / "fin.gmc"
-    r = run("compress", meshes["fin"], out)
-    assert r.returncode != 0 and not out.exists()
-    assert "non-manifold input" in r.stderr and "edge" in r.stderr, r.stderr
-    assert "fin.obj" in r.stderr
+def test_cli_round_trips_non_manifold_input_joining_the_split_vertices(run, meshes, tmp_path):
+    gmc, back = tmp_path / "fin.gmc", tmp_path / "fin_back.obj"
+    r = run("compress", meshes["fin"], gmc, "--preserve-order", "--bits", "16", "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["split_vertices"] > 0
+    assert "non-manifold input" in r.stderr, r.stderr
+    r = run("decompress", gmc, back, "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["vertices"] == 5
+    src, src_faces = read_obj(meshes["fin"])
+    out, out_faces = read_obj(back)
+    assert out_faces == src_faces  # the edge with three faces is back
+    assert np.abs(out["v"] - src["v"]).max() <= 0.5 * 2 / 65535 + 1e-12  # extent 2, 16 bits
+
+
+def test_api_records_split_vertices_given_the_build_report(meshes):
+    loaded = geom.load_with_report(meshes["fin"])
+    mesh, origin = loaded.mesh, np.asarray(loaded.report.vertex_origin)
+    assert mesh.n_vertices > 5
+    data, perm = geom.compress(mesh, vertex_origin=origin, return_permutation=True)
+    out, none, rep = geom.decompress(data, return_representative=True)
+    assert none is None and len(rep) == out.n_vertices
+    # Two decoded vertices are joined exactly when they came from one source vertex.
+    src = origin[perm.vertices]
+    assert np.array_equal(src[:, None] == src[None, :], rep[:, None] == rep[None, :])
+    assert len(np.unique(rep)) == 5
+    assert geom.decompress(geom.compress(mesh), return_representative=True)[2] is None
+    with pytest.raises(ValueError, match="vertex_origin"):
+        geom.compress(mesh, vertex_origin=[0, 1])
 
 
 def test_cli_round_trip_with_json(run, meshes, tmp_path):

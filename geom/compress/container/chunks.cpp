@@ -2,6 +2,7 @@
 // decode and the merge on the way out. FORMAT.md specifies the layout.
 #include <geom/compress/container/chunks.h>
 
+#include <geom/compress/container/extension.h>
 #include <geom/compress/container/stream.h>
 #include <geom/compress/rans.h>
 #include <geom/core/errors.h>
@@ -570,7 +571,8 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
                                                const FlatMesh& flat, const Quantiser& grid) {
   const std::size_t n_tri = flat.table.n_triangles();
   if (options.chunk_triangles == 0 || options.preserve_order ||
-      n_tri < 2 * options.chunk_triangles || has_attributes(mesh))
+      n_tri < 2 * options.chunk_triangles || has_attributes(mesh) ||
+      has_split_vertices(options.vertex_origin))
     return std::nullopt;
   // A power of two, so that the chunks share 2, 4, 8... cores evenly (3 chunks on 2 cores
   // would wait for the third).
@@ -602,6 +604,7 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   if (!seams_distinct(chunks, flat.positions.size(), grid)) return std::nullopt;
   CompressOptions one = options;
   one.chunk_triangles = 0;
+  one.vertex_origin.clear();  // the whole mesh's, and without a shared entry
   const SurfaceMesh no_attributes;  // the chunks carry positions only
   tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
     chunks[k].result = compress_on_grid(no_attributes, one, chunks[k].flat, grid);

@@ -330,7 +330,8 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
   if (h.flags & kFlagExtension)
     apply_extension(decode_extension(bytes, core.extension_at, core.table, nv, h.flags & kFlagNormals,
                                      h.flags & kFlagTexcoords, rans_lanes(h.flags)),
-                    mesh, core.table, vertex_slot, face_slot, result.attributes);
+                    mesh, core.table, vertex_slot, face_slot, result.attributes,
+                    result.vertex_representative);
   return result;
 }
 
@@ -383,7 +384,7 @@ FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
 
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
                                 std::size_t n_attributes, std::size_t n_corner_attributes,
-                                std::size_t n_generic_components) {
+                                std::size_t n_generic_components, std::size_t n_split_copies) {
   const std::size_t n_tri = n_corners >= 2 * n_faces ? n_corners - 2 * n_faces : n_corners;
   // Every model symbol costs at most log2(2^15 / kMinFreq) = 10 bits (+ rounding; 11 used);
   // raw fields are at most 31 bits. Per triangle ≤ 12 symbols and 93 raw bits; per vertex
@@ -404,7 +405,8 @@ std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std
     chunked = 32 + chunks * (128 + 6 * 10 + 16) + (copies * (7 * 11 + 118 + 3 * (11 + 31)) + 7) / 8;
   }
   return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10) + chunked +
-         max_extension_size(n_vertices, 3 * n_tri, n_corner_attributes, n_generic_components);
+         max_extension_size(n_vertices, 3 * n_tri, n_corner_attributes, n_generic_components,
+                            n_split_copies);
 }
 
 }  // namespace geom

@@ -59,6 +59,13 @@ struct CompressOptions {
   /// per-corner attributes (those meshes are coded as one stream). 0: never; else at least
   /// 16384.
   std::size_t chunk_triangles = 262144;
+  /// Empty, or one entry per vertex (dense order): the source vertex each came from, as
+  /// BuildReport::vertex_origin gives it. Vertices with equal entries are one vertex of the
+  /// source that build() split apart (a non-manifold edge or vertex); the stream records
+  /// them as one (FORMAT.md, extension kind 3), DecompressResult::vertex_representative joins
+  /// them and `geom decompress` writes the source's vertex again. Such a mesh is coded as one
+  /// stream (no chunks).
+  std::vector<std::uint32_t> vertex_origin{};
 };
 
 /// One attribute of the stream's extension block (per-corner normals and texture
@@ -109,15 +116,17 @@ struct CompressResult {
 /// Compress a mesh (triangles, quads and n-gons; any number of components, boundaries and
 /// handles; isolated vertices kept). Vertex normals and texture coordinates, their per-corner
 /// versions with seams, and float / Eigen-vector vertex properties are coded when present;
-/// what is not coded is named in stats.dropped_properties. A SurfaceMesh is manifold by construction, so non-manifold input never reaches the
-/// codec: `geom compress` refuses a file whose loading had to split non-manifold edges or
-/// vertices (the split could not be undone on decode), naming the elements.
+/// what is not coded is named in stats.dropped_properties. A SurfaceMesh is manifold by
+/// construction: a non-manifold source reaches the codec split apart by build(), and
+/// options.vertex_origin lets the stream record which vertices the split made of one (so
+/// that `geom compress` / `geom decompress` restore a non-manifold file's vertices).
 /// Pre: finite positions.
 /// Throws: InvalidArgument for bits outside 1–30, a precision ≤ 0 or needing more than 30
 /// bits, a level outside 0–9, normal_bits outside {0} ∪ [2, 20], texcoord_bits above 30,
 /// attribute_bits above 30, non-finite positions, normals, texture coordinates or
-/// attribute values (naming the vertex, or the halfedge of a corner), or a polygon
-/// that cannot be fanned without repeating an existing edge.
+/// attribute values (naming the vertex, or the halfedge of a corner), a polygon
+/// that cannot be fanned without repeating an existing edge, or a vertex_origin that is not
+/// one entry per vertex.
 /// Complexity: O(V + F) per configuration tried (1 at level 0, up to 14 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
 
@@ -132,6 +141,12 @@ struct DecompressResult {
   double max_error = 0.0;  ///< the stream's per-coordinate error bound (step / 2)
   double texcoord_max_error = 0.0;  ///< per UV coordinate (0 without texture coordinates)
   std::vector<AttributeStats> attributes;  ///< those of the extension block, restored on the mesh
+  /// Empty unless the stream records split vertices (CompressOptions::vertex_origin): then,
+  /// per mesh vertex, the lowest-numbered mesh vertex that is the same source vertex (itself
+  /// for most). The mesh keeps them apart (it is manifold); join_vertices() on its soup
+  /// gives the source's vertices back (in the source's order when the order was preserved,
+  /// since build() numbers the split copies after every source vertex).
+  std::vector<std::uint32_t> vertex_representative;
 };
 
 /// Decode a stream written by compress().
@@ -144,10 +159,12 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes);
 /// Upper bound on the size of compress()'s output for a mesh with these counts (corners =
 /// sum of face valences), number of coded per-vertex attributes (normals, texture
 /// coordinates: 0–2), per-corner attributes ("h:normal", "h:texcoord": 0–2) and components
-/// of generic vertex attributes (1 per double, 3 per colour, …), at any options.
+/// of generic vertex attributes (1 per double, 3 per colour, …) and split copies (vertices
+/// whose CompressOptions::vertex_origin an earlier vertex shares), at any options.
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
                                 std::size_t n_attributes = 0, std::size_t n_corner_attributes = 0,
-                                std::size_t n_generic_components = 0);
+                                std::size_t n_generic_components = 0,
+                                std::size_t n_split_copies = 0);
 
 namespace codec {
 /// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
@@ -162,7 +179,8 @@ struct FlatDecode {
   std::vector<float> texcoords;
 };
 /// Throws: DecodeError as decompress(). Ignores the order section and the extension block
-/// (per-corner and generic attributes: they need the half-edge mesh).
+/// (per-corner and generic attributes: they need the half-edge mesh; split vertices stay
+/// apart, as in the mesh).
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
 
 namespace detail {

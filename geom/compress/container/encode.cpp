@@ -537,6 +537,9 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     throw InvalidArgument("compress: chunk_triangles must be 0 (one stream) or at least " +
                           std::to_string(kMinChunkTriangles) + ", got " +
                           std::to_string(options.chunk_triangles));
+  if (!options.vertex_origin.empty() && options.vertex_origin.size() != mesh.n_vertices())
+    throw InvalidArgument("compress: vertex_origin has " + std::to_string(options.vertex_origin.size()) +
+                          " entries for " + std::to_string(mesh.n_vertices()) + " vertices");
   const FlatMesh flat = flatten(mesh);
   const Quantiser quant = options.precision > 0
                               ? quantiser_for_precision(flat.positions, options.precision)

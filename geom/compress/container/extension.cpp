@@ -10,12 +10,13 @@
 #include <cmath>
 #include <tuple>
 #include <typeinfo>
+#include <unordered_map>
 
 namespace geom::codec::detail {
 
 namespace {
 
-enum Kind : std::uint8_t { kCornerTexcoord = 0, kCornerNormal = 1, kGeneric = 2 };
+enum Kind : std::uint8_t { kCornerTexcoord = 0, kCornerNormal = 1, kGeneric = 2, kSplit = 3 };
 constexpr std::uint64_t kMaxVerticesPerByte = 64;  // as the core stream (FORMAT.md)
 
 // Generic vertex property types by their stream code (the index here).
@@ -201,6 +202,34 @@ void encode_generic(ByteWriter& w, const SurfaceMesh& mesh, const std::string& n
   }
 }
 
+/// Each decoded vertex whose origin an earlier decoded vertex has, with that earlier one:
+/// (copy, representative), copies ascending.
+std::vector<std::array<std::uint32_t, 2>> split_copies(std::span<const std::uint32_t> origin,
+                                                       std::span<const std::uint32_t> vertex_order) {
+  std::vector<std::array<std::uint32_t, 2>> out;
+  if (origin.empty()) return out;
+  std::unordered_map<std::uint32_t, std::uint32_t> first;
+  first.reserve(vertex_order.size());
+  for (std::uint32_t d = 0; d < vertex_order.size(); ++d) {
+    const auto [at, fresh] = first.try_emplace(origin[vertex_order[d]], d);
+    if (!fresh) out.push_back({d, at->second});
+  }
+  return out;
+}
+
+/// The split vertices' entry: their count, then per copy its gap to the previous copy (the
+/// first: its number) and its representative.
+void encode_split(ByteWriter& w, std::span<const std::array<std::uint32_t, 2>> split) {
+  w.u8(kSplit);
+  w.varint(split.size());
+  std::uint32_t next = 0;
+  for (const auto& [copy, rep] : split) {
+    w.varint(copy - next);
+    w.varint(rep);
+    next = copy + 1;
+  }
+}
+
 template <class H>
 void drop_all(const SurfaceMesh& mesh, std::vector<std::string>& dropped,
               const std::vector<std::string>& kept = {}) {
@@ -275,6 +304,11 @@ ExtensionEncoding encode_extension(const SurfaceMesh& mesh, const CompressOption
         return true;
       });
     });
+  }
+  // Vertices that are one in the source: last, so that the attributes' offsets stay put.
+  if (const auto split = split_copies(options.vertex_origin, vertex_order); !split.empty()) {
+    encode_split(body, split);
+    ++entries;
   }
   drop_all<Halfedge>(mesh, out.dropped, kept_h);
   drop_all<Edge>(mesh, out.dropped);
@@ -368,6 +402,30 @@ void decode_generic_entry(ByteReader& r, std::span<const std::uint8_t> stream,
   }
 }
 
+void decode_split_entry(ByteReader& r, std::size_t at, std::size_t nv,
+                        std::vector<std::array<std::uint32_t, 2>>& split) {
+  if (!split.empty()) throw DecodeError(at, "split vertices given twice");
+  const std::uint64_t n = r.varint();
+  // Two bytes at least per copy, and every copy leaves a vertex before it.
+  if (n == 0 || n >= std::max<std::size_t>(nv, 1) || n > r.remaining() / 2)
+    throw DecodeError(at + 1, "split vertex count " + str(n) + " impossible");
+  std::vector<std::uint8_t> is_copy(nv, 0);
+  split.reserve(n);
+  std::uint64_t next = 0;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const std::size_t where = r.offset();
+    const std::uint64_t gap = r.varint(), rep = r.varint();
+    if (gap >= nv || next + gap >= nv)
+      throw DecodeError(where, "split vertex beyond the vertex count");
+    const std::uint64_t copy = next + gap;
+    if (rep >= copy) throw DecodeError(where, "split vertex joined to a vertex not before it");
+    if (is_copy[rep]) throw DecodeError(where, "split vertex joined to another split vertex");
+    is_copy[copy] = 1;
+    split.push_back({static_cast<std::uint32_t>(copy), static_cast<std::uint32_t>(rep)});
+    next = copy + 1;
+  }
+}
+
 /// Each decoded corner's halfedge on the rebuilt mesh.
 std::vector<Halfedge> decoded_corner_halfedges(const SurfaceMesh& mesh, const CornerTable& t,
                                                std::span<const std::uint32_t> vertex_slot,
@@ -441,6 +499,8 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
         if (o.name == g.name) throw DecodeError(at, "attribute '" + g.name + "' given twice");
       g.bytes = r.offset() - at;
       out.generic.push_back(std::move(g));
+    } else if (kind == kSplit) {
+      decode_split_entry(r, at, n_vertices, out.split);
     } else {
       throw DecodeError(at, "unknown extension entry kind " + str(kind));
     }
@@ -451,7 +511,20 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
 
 void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const CornerTable& table,
                      std::span<const std::uint32_t> vertex_slot,
-                     std::span<const std::uint32_t> face_slot, std::vector<AttributeStats>& stats) {
+                     std::span<const std::uint32_t> face_slot, std::vector<AttributeStats>& stats,
+                     std::vector<std::uint32_t>& representative) {
+  if (!ext.split.empty()) {
+    // Each copy to its representative, in mesh numbering; then each group to its lowest
+    // vertex (with the order preserved, the source's own: build() numbers copies last).
+    const std::size_t nv = vertex_slot.size();
+    representative.resize(nv);
+    for (std::uint32_t v = 0; v < nv; ++v) representative[v] = v;
+    for (const auto& [copy, rep] : ext.split) representative[vertex_slot[copy]] = vertex_slot[rep];
+    std::vector<std::uint32_t> lowest = representative;
+    for (std::uint32_t v = 0; v < nv; ++v)
+      lowest[representative[v]] = std::min(lowest[representative[v]], v);
+    for (std::uint32_t& r : representative) r = lowest[r];
+  }
   const std::vector<Halfedge> he =
       ext.corners.empty()
           ? std::vector<Halfedge>{}
@@ -497,9 +570,18 @@ void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const Corn
   }
 }
 
+bool has_split_vertices(std::span<const std::uint32_t> vertex_origin) {
+  std::vector<std::uint32_t> sorted(vertex_origin.begin(), vertex_origin.end());
+  std::sort(sorted.begin(), sorted.end());
+  return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+}
+
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,
-                               std::size_t n_corner_attributes, std::size_t n_generic_components) {
-  if (n_corner_attributes + n_generic_components == 0) return 0;
+                               std::size_t n_corner_attributes, std::size_t n_generic_components,
+                               std::size_t n_split_copies) {
+  if (n_corner_attributes + n_generic_components + n_split_copies == 0) return 0;
+  // Split copies: a kind byte, a count and two varints of at most 5 bytes each.
+  const std::size_t split = n_split_copies == 0 ? 0 : 6 + 10 * n_split_copies;
   // Every model symbol ≤ 11 bits, raw fields ≤ 29 bits. Per corner: half a seam bit's edge
   // (≤ 6 bits) and, per wedge (≤ one per corner), two residuals of a length symbol, a
   // modelled-bits symbol and ≤ 29 raw bits. Headers: kind, mode, bits, 24 grid bytes and
@@ -511,7 +593,7 @@ std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_co
   // lengths.
   const std::size_t plane = (n_vertices * (6 * 11 + 87) + 7) / 8 + 16;
   const std::size_t generic = plane + 256 + 3 + 16 + 20;
-  return 10 + n_corner_attributes * corner + n_generic_components * generic;
+  return 10 + n_corner_attributes * corner + n_generic_components * generic + split;
 }
 
 }  // namespace geom::codec::detail

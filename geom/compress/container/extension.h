@@ -55,6 +55,9 @@ struct DecodedGeneric {
 struct ExtensionDecoding {
   std::vector<DecodedCornerAttribute> corners;
   std::vector<DecodedGeneric> generic;
+  /// Split vertices: (copy, representative) in decoded numbering, copies ascending, each
+  /// representative below its copy and not itself a copy.
+  std::vector<std::array<std::uint32_t, 2>> split;
   std::uint64_t offset = 0;  ///< of the block, for errors found when applying it
 };
 
@@ -67,13 +70,19 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
 
 /// Put the decoded attributes on the rebuilt mesh: decoded vertex i is mesh vertex
 /// vertex_slot[i], decoded polygon j (in order of lowest triangle) is mesh face face_slot[j].
+/// representative receives DecompressResult::vertex_representative (empty without splits).
 /// Throws: DecodeError when a generic name is already taken on the mesh.
 void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const CornerTable& table,
                      std::span<const std::uint32_t> vertex_slot,
-                     std::span<const std::uint32_t> face_slot, std::vector<AttributeStats>& stats);
+                     std::span<const std::uint32_t> face_slot, std::vector<AttributeStats>& stats,
+                     std::vector<std::uint32_t>& representative);
+
+/// Whether two vertices share an origin (CompressOptions::vertex_origin).
+bool has_split_vertices(std::span<const std::uint32_t> vertex_origin);
 
 /// Bound on the block's size (see max_compressed_size).
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,
-                               std::size_t n_corner_attributes, std::size_t n_generic_components);
+                               std::size_t n_corner_attributes, std::size_t n_generic_components,
+                               std::size_t n_split_copies);
 
 }  // namespace geom::codec::detail

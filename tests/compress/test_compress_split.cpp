@@ -1,0 +1,308 @@
+// Non-manifold sources: build() splits their non-manifold edges and vertices, the stream
+// records which vertices the split made of one (CompressOptions::vertex_origin, extension
+// kind 3), and join_vertices() on the decoded soup gives the source back. Also the decoder's
+// checks of that entry.
+
+#include "support/data.h"
+
+#include <geom/compress/container/codec.h>
+#include <geom/core/build.h>
+#include <geom/core/soup.h>
+#include <geom/core/validate.h>
+#include <geom/io/io.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <set>
+
+namespace geom {
+namespace {
+
+// Two fans (pyramids without bases) meeting at their apex 0: a bow-tie vertex.
+PolygonSoup bow_tie() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {-1, 0, -1}, {-1, -1, -1}, {0, -1, -1}};
+  s.add_face({0, 1, 2});
+  s.add_face({0, 2, 3});
+  s.add_face({0, 3, 1});
+  s.add_face({0, 4, 5});
+  s.add_face({0, 5, 6});
+  s.add_face({0, 6, 4});
+  return s;
+}
+
+// Three triangles on the edge 0–1 (a fin), and a bow-tie at vertex 5: two kinds of split.
+PolygonSoup fin_and_bow_tie() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1},
+                 {3, 0, 0}, {4, 0, 0}, {3.5, 1, 0}, {2, 0, 0}, {2.5, -1, 0}};
+  s.add_face({0, 1, 2});
+  s.add_face({1, 0, 3});
+  s.add_face({0, 1, 4});
+  s.add_face({5, 6, 7});
+  s.add_face({5, 8, 9});
+  return s;
+}
+
+// part's vertices and faces added to s, moved by offset.
+void append(PolygonSoup& s, const PolygonSoup& part, const Point& offset) {
+  const auto base = static_cast<std::uint32_t>(s.positions.size());
+  for (const Point& p : part.positions) s.positions.push_back(p + offset);
+  for (std::size_t f = 0; f < part.n_faces(); ++f) {
+    std::vector<std::uint32_t> c;
+    for (std::uint32_t v : part.face(f)) c.push_back(base + v);
+    s.add_face(c);
+  }
+}
+
+// k bow-ties in a row, each apex shared by its two fans (separate components after the split).
+PolygonSoup bow_ties(std::uint32_t k) {
+  PolygonSoup s;
+  for (std::uint32_t i = 0; i < k; ++i) append(s, bow_tie(), Point(3.0 * i, 0, 0));
+  return s;
+}
+
+// A 12 × 12 grid of quads whose vertex (k, k) is also used in place of (11 − k, 11 − k) for
+// k = 1 … 4: pinch points whose two fans the rest of the sheet joins. The faces are listed
+// from the far corner back, after the first one: build() leaves the source vertex to the
+// far fan, listed first, while the traversal starts at face 0 and meets the near fan, with
+// the copy, first. The replaced vertices stay, unreferenced.
+PolygonSoup pinched_grid() {
+  constexpr std::uint32_t n = 12;
+  PolygonSoup s;
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) s.positions.push_back({double(i), double(j), 0.1 * double((i * j) % 3)});
+  auto id = [&](std::uint32_t i, std::uint32_t j) {
+    for (std::uint32_t k = 1; k <= 4; ++k)
+      if (i == n - 1 - k && j == n - 1 - k) return k * n + k;
+    return j * n + i;
+  };
+  std::vector<std::array<std::uint32_t, 4>> quads;
+  for (std::uint32_t j = 0; j + 1 < n; ++j)
+    for (std::uint32_t i = 0; i + 1 < n; ++i) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  std::reverse(quads.begin() + 1, quads.end());
+  for (const auto& q : quads) s.add_face({q[0], q[1], q[2], q[3]});
+  return s;
+}
+
+struct Coded {
+  BuildResult built;
+  CompressResult c;
+  DecompressResult d;
+};
+
+Coded code(const PolygonSoup& soup, CompressOptions opt) {
+  Coded r;
+  r.built = build(soup);
+  opt.vertex_origin = r.built.report.vertex_origin;
+  r.c = compress(r.built.mesh, opt);
+  r.d = decompress(r.c.bytes);
+  return r;
+}
+
+std::vector<std::uint32_t> cyclic(std::vector<std::uint32_t> f) {
+  std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  return f;
+}
+
+std::multiset<std::vector<std::uint32_t>> face_set(const PolygonSoup& s) {
+  std::multiset<std::vector<std::uint32_t>> out;
+  for (std::size_t f = 0; f < s.n_faces(); ++f) {
+    const auto c = s.face(f);
+    out.insert(cyclic({c.begin(), c.end()}));
+  }
+  return out;
+}
+
+TEST(CompressSplit, PreservedOrderGivesTheSourceBackExactly) {
+  for (const PolygonSoup& src : {bow_tie(), fin_and_bow_tie(), bow_ties(12), pinched_grid()}) {
+    CompressOptions opt;
+    opt.preserve_order = true;
+    opt.bits = 16;
+    const Coded r = code(src, opt);
+    ASSERT_GT(r.built.mesh.n_vertices(), src.positions.size()) << "the source was not split";
+    ASSERT_TRUE(validate(r.d.mesh).ok());
+    ASSERT_EQ(r.d.vertex_representative.size(), r.d.mesh.n_vertices());
+    PolygonSoup back = to_soup(r.d.mesh);
+    join_vertices(back, r.d.vertex_representative);
+    ASSERT_EQ(back.positions.size(), src.positions.size());
+    EXPECT_EQ(back.face_offsets, src.face_offsets);
+    EXPECT_EQ(back.face_indices, src.face_indices);
+    for (std::size_t v = 0; v < src.positions.size(); ++v)
+      EXPECT_LE((back.positions[v] - src.positions[v]).cwiseAbs().maxCoeff(),
+                r.c.stats.max_error * (1 + 1e-12))
+          << "vertex " << v;
+  }
+}
+
+TEST(CompressSplit, ReorderedStreamJoinsExactlyTheSplitGroups) {
+  const PolygonSoup src = fin_and_bow_tie();
+  for (int level : {0, 7, 9}) {
+    SCOPED_TRACE(level);
+    CompressOptions opt;
+    opt.level = level;
+    const Coded r = code(src, opt);
+    const auto& origin = r.built.report.vertex_origin;
+    const auto& perm = r.c.vertex_permutation;  // decoded vertex -> built vertex
+    const auto& rep = r.d.vertex_representative;
+    ASSERT_EQ(rep.size(), perm.size());
+    for (std::uint32_t u = 0; u < rep.size(); ++u) {
+      EXPECT_EQ(rep[rep[u]], rep[u]);
+      EXPECT_LE(rep[u], u);
+      for (std::uint32_t v = 0; v < rep.size(); ++v)
+        EXPECT_EQ(rep[u] == rep[v], origin[perm[u]] == origin[perm[v]]) << u << ", " << v;
+    }
+    // The joined faces, in source numbering, are the source's faces.
+    PolygonSoup back = to_soup(r.d.mesh);
+    join_vertices(back, rep);
+    ASSERT_EQ(back.positions.size(), src.positions.size());
+    std::map<std::uint32_t, std::uint32_t> to_source;  // joined vertex -> source vertex
+    std::uint32_t k = 0;
+    for (std::uint32_t v = 0; v < rep.size(); ++v)
+      if (rep[v] == v) to_source[k++] = origin[perm[v]];
+    for (std::uint32_t& c : back.face_indices) c = to_source.at(c);
+    EXPECT_EQ(face_set(back), face_set(src));
+  }
+}
+
+TEST(CompressSplit, StreamWithoutSharedOriginsIsUnchanged) {
+  const BuildResult b = build(bow_tie());
+  std::vector<std::uint32_t> identity(b.mesh.n_vertices());
+  for (std::uint32_t v = 0; v < identity.size(); ++v) identity[v] = v;
+  CompressOptions with;
+  with.vertex_origin = identity;
+  EXPECT_EQ(compress(b.mesh, with).bytes, compress(b.mesh, {}).bytes);
+  EXPECT_TRUE(decompress(compress(b.mesh, with).bytes).vertex_representative.empty());
+}
+
+TEST(CompressSplit, RejectsAnOriginListOfTheWrongLength) {
+  const BuildResult b = build(bow_tie());
+  CompressOptions opt;
+  opt.vertex_origin = {0, 1, 2};
+  EXPECT_THROW(compress(b.mesh, opt), InvalidArgument);
+}
+
+TEST(CompressSplit, SizeStaysWithinTheBound) {
+  const PolygonSoup src = fin_and_bow_tie();
+  const Coded r = code(src, {});
+  const std::size_t copies = r.built.mesh.n_vertices() - src.positions.size();
+  EXPECT_EQ(copies, 3u);  // vertex 0 and 1 of the fin once each, vertex 5 once
+  std::size_t corners = 0;
+  for (Face f : r.built.mesh.faces()) corners += r.built.mesh.valence(f);
+  EXPECT_LE(r.c.bytes.size(), max_compressed_size(r.built.mesh.n_vertices(), r.built.mesh.n_faces(),
+                                                  corners, 0, 0, 0, copies));
+}
+
+TEST(CompressSplit, LargeSplitMeshIsCodedAsOneStream) {
+  // A 180 × 100 grid (36000 triangles, enough for two chunks of 16384) and a bow-tie.
+  PolygonSoup s;
+  const std::uint32_t nx = 181, ny = 101;
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i) s.positions.push_back({double(i), double(j), 0.01 * ((i * 7 + j * 3) % 5)});
+  for (std::uint32_t j = 0; j + 1 < ny; ++j)
+    for (std::uint32_t i = 0; i + 1 < nx; ++i) {
+      const std::uint32_t a = j * nx + i;
+      s.add_face({a, a + 1, a + nx + 1});
+      s.add_face({a, a + nx + 1, a + nx});
+    }
+  append(s, bow_tie(), Point(0, 0, 5));
+  CompressOptions opt;
+  opt.chunk_triangles = 16384;
+  const Coded r = code(s, opt);
+  EXPECT_EQ(r.c.stats.chunks, 1u);
+  PolygonSoup back = to_soup(r.d.mesh);
+  join_vertices(back, r.d.vertex_representative);
+  EXPECT_EQ(back.positions.size(), s.positions.size());
+  EXPECT_EQ(back.n_faces(), s.n_faces());
+}
+
+// The split entry is the stream's last: kind 3, count, then (gap, representative) per copy,
+// one byte each for these small meshes.
+std::vector<std::uint8_t> split_stream(const PolygonSoup& src, std::size_t copies) {
+  const Coded r = code(src, {});
+  const auto& b = r.c.bytes;
+  EXPECT_GE(b.size(), 2 + 2 * copies);
+  EXPECT_EQ(b[b.size() - 2 - 2 * copies], 3) << "the split entry is not last";
+  EXPECT_EQ(b[b.size() - 1 - 2 * copies], copies);
+  return b;
+}
+
+void expect_rejected(const std::vector<std::uint8_t>& bytes, const std::string& what) {
+  try {
+    decompress(bytes);
+    ADD_FAILURE() << "accepted: " << what;
+  } catch (const DecodeError& e) {
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("byte"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CompressSplit, DecoderRejectsBadSplitEntries) {
+  const std::vector<std::uint8_t> one = split_stream(bow_tie(), 1);
+  const std::size_t n = one.size();
+  ASSERT_NO_THROW(decompress(one));
+  auto patched = [&](std::vector<std::uint8_t> b, std::size_t from_end, std::uint8_t value) {
+    b[b.size() - from_end] = value;
+    return b;
+  };
+  expect_rejected(patched(one, 1, one[n - 2]), "not before it");  // joined to itself
+  expect_rejected(patched(one, 2, 120), "beyond the vertex count");
+  expect_rejected(patched(one, 3, 0), "split vertex count 0 impossible");
+  expect_rejected(patched(one, 3, 2), "impossible");  // more copies than bytes
+  expect_rejected(patched(one, 4, 9), "unknown extension entry kind 9");
+  expect_rejected(std::vector<std::uint8_t>(one.begin(), one.end() - 1), "");  // truncated
+
+  // Two copies: the second joined to the first copy, a chain.
+  const std::vector<std::uint8_t> two = split_stream(fin_and_bow_tie(), 3);
+  ASSERT_NO_THROW(decompress(two));
+  const std::size_t m = two.size();
+  const std::uint8_t first_copy = two[m - 6];  // the first gap is the copy's number
+  expect_rejected(patched(two, 3, first_copy), "another split vertex");
+  expect_rejected(patched(two, 2, 100), "beyond the vertex count");
+}
+
+TEST(JoinVertices, CarriesAttributesAndTagsAndRejectsBadEntries) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
+  s.vertex_colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  s.vertex_scalars = {{"q", {1, 2, 3, 4}}};
+  s.add_face({0, 1, 2});
+  s.add_face({3, 2, 1});
+  s.creases = {{3, 1, 2.0}};
+  s.corners = {{3, 1.5}};
+  PolygonSoup j = s;
+  join_vertices(j, std::vector<std::uint32_t>{0, 1, 2, 0});
+  EXPECT_EQ(j.positions.size(), 3u);
+  EXPECT_EQ(j.face_indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 1}));
+  EXPECT_EQ(j.vertex_colors.size(), 3u);
+  EXPECT_EQ(j.vertex_scalars[0].values, (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(j.creases[0].a, 0u);
+  EXPECT_EQ(j.corners[0].v, 0u);
+  // Vertex 2 removed: 3 becomes 2.
+  PolygonSoup k = s;
+  join_vertices(k, std::vector<std::uint32_t>{0, 1, 1, 3});
+  EXPECT_EQ(k.face_indices, (std::vector<std::uint32_t>{0, 1, 1, 2, 1, 1}));
+  EXPECT_THROW(join_vertices(k, std::vector<std::uint32_t>{0, 1}), InvalidArgument);
+  PolygonSoup bad = s;
+  EXPECT_THROW(join_vertices(bad, std::vector<std::uint32_t>{0, 1, 2, 9}), InvalidArgument);
+  EXPECT_THROW(join_vertices(bad, std::vector<std::uint32_t>{3, 1, 2, 0}), InvalidArgument);
+}
+
+TEST(CompressSplit, TeapotRoundTripsWithItsNonManifoldVertices) {
+  GEOM_REQUIRE_DATA_DIR(dir);
+  const PolygonSoup src = read_soup(dir / "teapot.obj");
+  CompressOptions opt;
+  opt.preserve_order = true;
+  const Coded r = code(src, opt);
+  ASSERT_GT(r.built.report.split_nonmanifold_vertices + r.built.report.split_nonmanifold_edges, 0u);
+  PolygonSoup back = to_soup(r.d.mesh);
+  join_vertices(back, r.d.vertex_representative);
+  ASSERT_EQ(back.positions.size(), src.positions.size());
+  EXPECT_EQ(back.face_indices, src.face_indices);
+}
+
+}  // namespace
+}  // namespace geom
