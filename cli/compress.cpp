@@ -71,6 +71,7 @@ void add_compress_command(CLI::App& app) {
                         {"quantisation_bits", r.stats.bits},
                         {"chunks", r.stats.chunks},
                         {"split_vertices", copies},
+                        {"source_vertices", loaded.mesh.n_vertices() - copies},
                         {"max_error", r.stats.max_error},
                         {"dropped_properties", r.stats.dropped_properties}};
     for (const AttributeStats& a : r.stats.attributes)
@@ -105,7 +106,8 @@ void add_compress_command(CLI::App& app) {
                 "Keep vertex and face order exactly (larger)");
   cmd->add_option("--chunk-triangles", args->options.chunk_triangles,
                   "Split meshes of at least twice this many triangles into chunks that decode in "
-                  "parallel (0: one stream; else at least 16384)")
+                  "parallel (0: one stream; else at least 16384; positions-only meshes without "
+                  "preserved order or non-manifold vertices)")
       ->capture_default_str();
   cmd->add_option("--normal-bits", args->options.normal_bits,
                   "Octahedral bits per normal coordinate, per vertex or corner (2-20; 0 drops normals)")

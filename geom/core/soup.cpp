@@ -1,6 +1,8 @@
 #include <geom/core/soup.h>
 
+#include <algorithm>
 #include <limits>
+#include <map>
 #include <string>
 
 namespace geom {
@@ -130,6 +132,7 @@ PolygonSoup to_soup(const SurfaceMesh& mesh) {
 }
 
 void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same) {
+  check_soup(soup);
   const std::size_t n = soup.positions.size();
   if (same.size() != n)
     throw InvalidArgument("join_vertices: " + std::to_string(same.size()) + " entries for " +
@@ -139,7 +142,10 @@ void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same) {
   std::uint32_t kept = 0;
   for (std::size_t v = 0; v < n; ++v) {
     const std::uint32_t r = same[v];
-    if (r >= n || same[r] != r)
+    if (r >= n)
+      throw InvalidArgument("join_vertices: vertex " + std::to_string(v) + " joins vertex " +
+                            std::to_string(r) + ", beyond the " + std::to_string(n) + " vertices");
+    if (same[r] != r)
       throw InvalidArgument("join_vertices: vertex " + std::to_string(v) + " joins vertex " +
                             std::to_string(r) + ", which is not its own representative");
     if (r == v) id[v] = kept++;
@@ -157,9 +163,24 @@ void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same) {
   compact(soup.vertex_colors);
   compact(soup.vertex_texcoords);
   for (NamedScalars& s : soup.vertex_scalars) compact(s.values);
-  for (std::uint32_t& c : soup.face_indices) c = c < n ? id[c] : c;  // bad indices stay bad
-  for (EdgeSharpness& e : soup.creases) e.a = e.a < n ? id[e.a] : e.a, e.b = e.b < n ? id[e.b] : e.b;
-  for (VertexSharpness& c : soup.corners) c.v = c.v < n ? id[c.v] : c.v;
+  auto to = [&](std::uint32_t v) { return v < n ? id[v] : v; };  // bad indices stay bad
+  for (std::uint32_t& c : soup.face_indices) c = to(c);
+  // A split edge or vertex carried its tag to each copy: one tag again, the sharpest.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, double> creases;
+  for (const EdgeSharpness& e : soup.creases) {
+    const std::uint32_t a = to(e.a), b = to(e.b);
+    double& s = creases.try_emplace({std::min(a, b), std::max(a, b)}, e.sharpness).first->second;
+    s = std::max(s, e.sharpness);
+  }
+  soup.creases.clear();
+  for (const auto& [ab, s] : creases) soup.creases.push_back({ab.first, ab.second, s});
+  std::map<std::uint32_t, double> corners;
+  for (const VertexSharpness& c : soup.corners) {
+    double& s = corners.try_emplace(to(c.v), c.sharpness).first->second;
+    s = std::max(s, c.sharpness);
+  }
+  soup.corners.clear();
+  for (const auto& [v, s] : corners) soup.corners.push_back({v, s});
 }
 
 }  // namespace geom

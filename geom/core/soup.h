@@ -93,10 +93,12 @@ PolygonSoup to_soup(const SurfaceMesh& mesh);
 /// Join vertices that are one: every face corner, crease and corner tag at vertex v moves
 /// to same[v], and the vertices that are not their own entry are removed, the others keeping
 /// their order and their per-vertex attributes. same[v] must be a vertex whose own entry is
-/// itself. Undoes build()'s split of non-manifold edges and vertices (vertices with equal
+/// itself. Tags that come to name one edge or vertex twice become one, of the larger
+/// sharpness; creases come out as (lower, higher) vertex pairs in ascending order. Undoes
+/// build()'s split of non-manifold edges and vertices (vertices with equal
 /// BuildReport::vertex_origin), e.g. with DecompressResult::vertex_representative.
-/// Throws: InvalidArgument naming the vertex when same has not one entry per position, or
-/// an entry is out of range or not its own.
+/// Throws: InvalidArgument as check_soup(), when same has not one entry per position, or
+/// naming the vertex whose entry is out of range or not its own.
 /// Complexity: O(V + corners).
 void join_vertices(PolygonSoup& soup, std::span<const std::uint32_t> same);
 

@@ -192,8 +192,13 @@ TEST(CompressSplit, SizeStaysWithinTheBound) {
   EXPECT_EQ(copies, 3u);  // vertex 0 and 1 of the fin once each, vertex 5 once
   std::size_t corners = 0;
   for (Face f : r.built.mesh.faces()) corners += r.built.mesh.valence(f);
-  EXPECT_LE(r.c.bytes.size(), max_compressed_size(r.built.mesh.n_vertices(), r.built.mesh.n_faces(),
-                                                  corners, 0, 0, 0, copies));
+  const std::size_t nv = r.built.mesh.n_vertices(), nf = r.built.mesh.n_faces();
+  EXPECT_LE(r.c.bytes.size(), max_compressed_size(nv, nf, corners, 0, 0, 0, copies));
+  // The entry's allowance: a kind byte, a count and two varints of at most 5 bytes a copy,
+  // plus the block's own count when nothing else opens it.
+  EXPECT_EQ(max_compressed_size(nv, nf, corners, 0, 0, 0, copies) -
+                max_compressed_size(nv, nf, corners, 0, 0, 0, 0),
+            10 + 6 + 10 * copies);
 }
 
 TEST(CompressSplit, LargeSplitMeshIsCodedAsOneStream) {
@@ -253,7 +258,21 @@ TEST(CompressSplit, DecoderRejectsBadSplitEntries) {
   expect_rejected(patched(one, 3, 0), "split vertex count 0 impossible");
   expect_rejected(patched(one, 3, 2), "impossible");  // more copies than bytes
   expect_rejected(patched(one, 4, 9), "unknown extension entry kind 9");
-  expect_rejected(std::vector<std::uint8_t>(one.begin(), one.end() - 1), "");  // truncated
+  expect_rejected(std::vector<std::uint8_t>(one.begin(), one.end() - 1), "impossible");  // truncated
+  // The entry twice (the block's entry count, just before it, raised to 2).
+  std::vector<std::uint8_t> twice = patched(one, 5, 2);
+  twice.insert(twice.end(), one.end() - 4, one.end());
+  expect_rejected(twice, "split vertices given twice");
+  // A ten-byte gap: far beyond the vertices, and no overflow on the way.
+  std::vector<std::uint8_t> far(one.begin(), one.end() - 2);
+  far.insert(far.end(), {0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x01, 0});
+  expect_rejected(far, "beyond the vertex count");
+  // A representative before the copy but elsewhere: the copy would move onto it.
+  const std::uint8_t copy = one[n - 2];
+  for (std::uint8_t other = 0; other < copy; ++other) {
+    if (other == one[n - 1]) continue;
+    expect_rejected(patched(one, 1, other), "not at its representative's position");
+  }
 
   // Two copies: the second joined to the first copy, a chain.
   const std::vector<std::uint8_t> two = split_stream(fin_and_bow_tie(), 3);
@@ -262,6 +281,39 @@ TEST(CompressSplit, DecoderRejectsBadSplitEntries) {
   const std::uint8_t first_copy = two[m - 6];  // the first gap is the copy's number
   expect_rejected(patched(two, 3, first_copy), "another split vertex");
   expect_rejected(patched(two, 2, 100), "beyond the vertex count");
+}
+
+TEST(CompressSplit, SplitVerticesTravelWithGenericAttributesAndDetachedFaces) {
+  // Five vertices whose faces put three triangles on an edge: build() detaches one face.
+  PolygonSoup src;
+  src.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 1}};
+  for (const auto& f : {std::array<std::uint32_t, 3>{2, 1, 4}, {3, 1, 2}, {1, 3, 4}, {4, 3, 0}, {3, 2, 4}})
+    src.add_face({f[0], f[1], f[2]});
+  src.vertex_colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}};
+  CompressOptions opt;
+  opt.preserve_order = true;
+  const Coded r = code(src, opt);
+  ASSERT_GT(r.built.report.detached_faces, 0u);
+  ASSERT_GT(r.built.mesh.n_vertices(), src.positions.size());
+  PolygonSoup back = to_soup(r.d.mesh);
+  join_vertices(back, r.d.vertex_representative);
+  EXPECT_EQ(back.face_indices, src.face_indices);
+  ASSERT_EQ(back.vertex_colors.size(), src.positions.size());
+  for (std::size_t v = 0; v < src.positions.size(); ++v)
+    EXPECT_LE((back.vertex_colors[v] - src.vertex_colors[v]).cwiseAbs().maxCoeff(), 0.5 / 4095 + 1e-9);
+}
+
+TEST(CompressSplit, RejectsGroupedVerticesAtDifferentPositions) {
+  const BuildResult b = build(bow_tie());
+  CompressOptions opt;
+  opt.vertex_origin = b.report.vertex_origin;
+  opt.vertex_origin[1] = opt.vertex_origin[0];  // the apex and a rim vertex "one vertex"
+  try {
+    compress(b.mesh, opt);
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("vertices 0 and 1"), std::string::npos) << e.what();
+  }
 }
 
 TEST(JoinVertices, CarriesAttributesAndTagsAndRejectsBadEntries) {
@@ -289,6 +341,26 @@ TEST(JoinVertices, CarriesAttributesAndTagsAndRejectsBadEntries) {
   PolygonSoup bad = s;
   EXPECT_THROW(join_vertices(bad, std::vector<std::uint32_t>{0, 1, 2, 9}), InvalidArgument);
   EXPECT_THROW(join_vertices(bad, std::vector<std::uint32_t>{3, 1, 2, 0}), InvalidArgument);
+  bad.vertex_colors.pop_back();  // the soup's own arrays are checked first
+  EXPECT_THROW(join_vertices(bad, std::vector<std::uint32_t>{0, 1, 2, 0}), InvalidArgument);
+}
+
+TEST(JoinVertices, TagsOfTheCopiesBecomeOneOfTheLargerSharpness) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}};
+  s.add_face({0, 1, 2});
+  s.add_face({4, 3, 2});
+  s.creases = {{0, 1, 1.0}, {4, 3, 3.0}, {1, 2, 0.5}};
+  s.corners = {{0, 2.0}, {3, 1.0}};
+  join_vertices(s, std::vector<std::uint32_t>{0, 1, 2, 0, 1});
+  ASSERT_EQ(s.creases.size(), 2u);
+  EXPECT_EQ(s.creases[0].a, 0u);
+  EXPECT_EQ(s.creases[0].b, 1u);
+  EXPECT_EQ(s.creases[0].sharpness, 3.0);
+  EXPECT_EQ(s.creases[1].a, 1u);
+  EXPECT_EQ(s.creases[1].b, 2u);
+  ASSERT_EQ(s.corners.size(), 1u);
+  EXPECT_EQ(s.corners[0].sharpness, 2.0);
 }
 
 TEST(CompressSplit, TeapotRoundTripsWithItsNonManifoldVertices) {

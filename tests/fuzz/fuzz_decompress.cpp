@@ -1,7 +1,8 @@
 // libFuzzer target for the mesh codec's decoder: any byte string must decode to a valid
 // mesh or throw DecodeError — no crash, no sanitizer report, no unbounded allocation. When
 // the input decodes, the result is re-encoded and decoded again, and the round trip must
-// preserve the element counts (the codec's round-trip check, after meshoptimizer's habit).
+// preserve the element counts and the split vertices' groups (the codec's round-trip check,
+// after meshoptimizer's habit).
 
 #include <geom/compress/container/codec.h>
 
@@ -24,12 +25,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   geom::CompressResult c;
   try {
-    c = geom::compress(d.mesh, {.bits = 16, .level = 1, .preserve_order = true});
+    // Split vertices travel again: in preserved order each group's lowest vertex comes back.
+    c = geom::compress(d.mesh, {.bits = 16, .level = 1, .preserve_order = true,
+                                .vertex_origin = d.vertex_representative});
   } catch (const geom::InvalidArgument&) {
     return 0;  // documented refusal, e.g. a decoded polygon with no valid fan corner
   }
   const auto again = geom::decompress(c.bytes);
-  if (again.mesh.n_vertices() != d.mesh.n_vertices() || again.mesh.n_faces() != d.mesh.n_faces())
+  if (again.mesh.n_vertices() != d.mesh.n_vertices() || again.mesh.n_faces() != d.mesh.n_faces() ||
+      again.vertex_representative != d.vertex_representative)
     std::abort();
   return 0;
 }

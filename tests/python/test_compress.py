@@ -161,6 +161,12 @@ def test_api_records_split_vertices_given_the_build_report(meshes):
     assert np.array_equal(src[:, None] == src[None, :], rep[:, None] == rep[None, :])
     assert len(np.unique(rep)) == 5
     assert geom.decompress(geom.compress(mesh), return_representative=True)[2] is None
+    # In preserved order the groups come back in input numbering: the source vertex (build()
+    # numbers the copies after it) stands for each.
+    out, perm, rep = geom.decompress(geom.compress(mesh, vertex_origin=origin, preserve_order=True),
+                                     return_representative=True)
+    assert perm is not None and np.array_equal(rep, np.array([origin.tolist().index(o) for o in origin]))
+    assert np.array_equal(np.unique(rep[np.asarray(out.faces)]), np.arange(5))
     with pytest.raises(ValueError, match="vertex_origin"):
         geom.compress(mesh, vertex_origin=[0, 1])
 

@@ -2,7 +2,6 @@
 // decode and the merge on the way out. FORMAT.md specifies the layout.
 #include <geom/compress/container/chunks.h>
 
-#include <geom/compress/container/extension.h>
 #include <geom/compress/container/stream.h>
 #include <geom/compress/rans.h>
 #include <geom/core/errors.h>
@@ -572,7 +571,7 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   const std::size_t n_tri = flat.table.n_triangles();
   if (options.chunk_triangles == 0 || options.preserve_order ||
       n_tri < 2 * options.chunk_triangles || has_attributes(mesh) ||
-      has_split_vertices(options.vertex_origin))
+      !options.vertex_origin.empty())  // compress() keeps it only when it joins vertices
     return std::nullopt;
   // A power of two, so that the chunks share 2, 4, 8... cores evenly (3 chunks on 2 cores
   // would wait for the third).

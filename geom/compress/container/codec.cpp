@@ -328,7 +328,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
     }
   }
   if (h.flags & kFlagExtension)
-    apply_extension(decode_extension(bytes, core.extension_at, core.table, nv, h.flags & kFlagNormals,
+    apply_extension(decode_extension(bytes, core.extension_at, core.table, core.q, h.flags & kFlagNormals,
                                      h.flags & kFlagTexcoords, rans_lanes(h.flags)),
                     mesh, core.table, vertex_slot, face_slot, result.attributes,
                     result.vertex_representative);

@@ -55,9 +55,9 @@ struct CompressOptions {
   /// into spatial chunks (the largest power of two at most n_triangles / chunk_triangles, so
   /// that they share 2, 4, 8... cores evenly), coded as independent streams on
   /// one grid, which decode (and encode) in parallel: a version 3 stream, about 1 % larger
-  /// than one stream on a 1M-triangle mesh. Not with preserve_order, vertex attributes or
-  /// per-corner attributes (those meshes are coded as one stream). 0: never; else at least
-  /// 16384.
+  /// than one stream on a 1M-triangle mesh. Not with preserve_order, vertex attributes,
+  /// per-corner attributes or split vertices (vertex_origin; those meshes are coded as one
+  /// stream). 0: never; else at least 16384.
   std::size_t chunk_triangles = 262144;
   /// Empty, or one entry per vertex (dense order): the source vertex each came from, as
   /// BuildReport::vertex_origin gives it. Vertices with equal entries are one vertex of the
@@ -126,7 +126,7 @@ struct CompressResult {
 /// attribute_bits above 30, non-finite positions, normals, texture coordinates or
 /// attribute values (naming the vertex, or the halfedge of a corner), a polygon
 /// that cannot be fanned without repeating an existing edge, or a vertex_origin that is not
-/// one entry per vertex.
+/// one entry per vertex or whose equal entries name vertices at different positions.
 /// Complexity: O(V + F) per configuration tried (1 at level 0, up to 14 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
 

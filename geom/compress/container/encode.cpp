@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace geom {
@@ -541,13 +542,21 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
     throw InvalidArgument("compress: vertex_origin has " + std::to_string(options.vertex_origin.size()) +
                           " entries for " + std::to_string(mesh.n_vertices()) + " vertices");
   const FlatMesh flat = flatten(mesh);
+  // An origin list that joins nothing is dropped here, so that no candidate groups it again
+  // (and the mesh may still be chunked).
+  std::optional<CompressOptions> unsplit;
+  if (!options.vertex_origin.empty() && !has_split_vertices(options.vertex_origin, flat.positions)) {
+    unsplit = options;
+    unsplit->vertex_origin.clear();
+  }
+  const CompressOptions& opt = unsplit ? *unsplit : options;
   const Quantiser quant = options.precision > 0
                               ? quantiser_for_precision(flat.positions, options.precision)
                               : (options.precision < 0 || std::isnan(options.precision)
                                      ? throw InvalidArgument("precision must be positive (or 0 to use bits)")
                                      : quantiser_for_bits(flat.positions, options.bits));
-  if (auto chunked = compress_chunked(mesh, options, flat, quant)) return std::move(*chunked);
-  return compress_on_grid(mesh, options, flat, quant);
+  if (auto chunked = compress_chunked(mesh, opt, flat, quant)) return std::move(*chunked);
+  return compress_on_grid(mesh, opt, flat, quant);
 }
 
 }  // namespace geom

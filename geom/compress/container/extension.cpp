@@ -402,8 +402,9 @@ void decode_generic_entry(ByteReader& r, std::span<const std::uint8_t> stream,
   }
 }
 
-void decode_split_entry(ByteReader& r, std::size_t at, std::size_t nv,
+void decode_split_entry(ByteReader& r, std::size_t at, std::span<const QPoint> q,
                         std::vector<std::array<std::uint32_t, 2>>& split) {
+  const std::size_t nv = q.size();
   if (!split.empty()) throw DecodeError(at, "split vertices given twice");
   const std::uint64_t n = r.varint();
   // Two bytes at least per copy, and every copy leaves a vertex before it.
@@ -420,6 +421,8 @@ void decode_split_entry(ByteReader& r, std::size_t at, std::size_t nv,
     const std::uint64_t copy = next + gap;
     if (rep >= copy) throw DecodeError(where, "split vertex joined to a vertex not before it");
     if (is_copy[rep]) throw DecodeError(where, "split vertex joined to another split vertex");
+    // build() gives a copy its source's position, so a copy elsewhere is a corrupt entry.
+    if (q[copy] != q[rep]) throw DecodeError(where, "split vertex not at its representative's position");
     is_copy[copy] = 1;
     split.push_back({static_cast<std::uint32_t>(copy), static_cast<std::uint32_t>(rep)});
     next = copy + 1;
@@ -466,8 +469,9 @@ std::vector<Halfedge> decoded_corner_halfedges(const SurfaceMesh& mesh, const Co
 }  // namespace
 
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
-                                   const CornerTable& table, std::size_t n_vertices,
+                                   const CornerTable& table, std::span<const QPoint> q,
                                    bool vertex_normals, bool vertex_uvs, unsigned rans_lanes) {
+  const std::size_t n_vertices = q.size();
   ByteReader r(stream);
   r.take(begin);
   ExtensionDecoding out;
@@ -500,7 +504,7 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
       g.bytes = r.offset() - at;
       out.generic.push_back(std::move(g));
     } else if (kind == kSplit) {
-      decode_split_entry(r, at, n_vertices, out.split);
+      decode_split_entry(r, at, q, out.split);
     } else {
       throw DecodeError(at, "unknown extension entry kind " + str(kind));
     }
@@ -570,10 +574,21 @@ void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const Corn
   }
 }
 
-bool has_split_vertices(std::span<const std::uint32_t> vertex_origin) {
-  std::vector<std::uint32_t> sorted(vertex_origin.begin(), vertex_origin.end());
-  std::sort(sorted.begin(), sorted.end());
-  return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+bool has_split_vertices(std::span<const std::uint32_t> vertex_origin,
+                        std::span<const Point> positions) {
+  std::unordered_map<std::uint32_t, std::uint32_t> first;
+  first.reserve(vertex_origin.size());
+  bool shared = false;
+  for (std::uint32_t v = 0; v < vertex_origin.size(); ++v) {
+    const auto [at, fresh] = first.try_emplace(vertex_origin[v], v);
+    if (fresh) continue;
+    shared = true;
+    if (positions[v] != positions[at->second])
+      throw InvalidArgument("compress: vertices " + str(at->second) + " and " + str(v) +
+                            " share vertex_origin " + str(vertex_origin[v]) +
+                            " but not their position");
+  }
+  return shared;
 }
 
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,

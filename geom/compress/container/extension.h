@@ -7,6 +7,7 @@
 
 #include <geom/compress/container/codec.h>
 #include <geom/compress/container/mesh_tables.h>
+#include <geom/compress/predict.h>
 
 #include <array>
 #include <cstdint>
@@ -61,11 +62,12 @@ struct ExtensionDecoding {
   std::uint64_t offset = 0;  ///< of the block, for errors found when applying it
 };
 
-/// Decode the block (the rest of the stream from `begin`) for the decoded table.
+/// Decode the block (the rest of the stream from `begin`) for the decoded table; q: the
+/// decoded grid points (a split vertex must sit on its representative's).
 /// Throws: DecodeError naming the byte offset on any inconsistency, truncation or
 /// trailing bytes.
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
-                                   const CornerTable& table, std::size_t n_vertices,
+                                   const CornerTable& table, std::span<const QPoint> q,
                                    bool vertex_normals, bool vertex_uvs, unsigned rans_lanes);
 
 /// Put the decoded attributes on the rebuilt mesh: decoded vertex i is mesh vertex
@@ -78,7 +80,9 @@ void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const Corn
                      std::vector<std::uint32_t>& representative);
 
 /// Whether two vertices share an origin (CompressOptions::vertex_origin).
-bool has_split_vertices(std::span<const std::uint32_t> vertex_origin);
+/// Throws: InvalidArgument when two that do have different positions (naming both).
+bool has_split_vertices(std::span<const std::uint32_t> vertex_origin,
+                        std::span<const Point> positions);
 
 /// Bound on the block's size (see max_compressed_size).
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,
