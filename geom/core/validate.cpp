@@ -132,7 +132,8 @@ RequirementCheck check_requirements(const PolygonSoup& soup, const Requirements&
   if (required.manifold && !t.manifold) {
     std::string why = "not manifold:";
     auto add = [&why](std::size_t n, const char* what) {
-      if (n) why += " " + std::to_string(n) + what;
+      // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on " " + to_string.
+      if (n) why.append(" ").append(std::to_string(n)).append(what);
     };
     add(t.nonmanifold_edges, " edges with 3 or more faces;");
     add(t.nonmanifold_vertices, " non-manifold vertices;");
