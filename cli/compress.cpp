@@ -31,8 +31,7 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
 /// vertices are one (CompressOptions::vertex_origin), so that decompression writes the
 /// source's vertices again; returns how many copies the split made (0: none).
 std::size_t record_split(const BuildReport& report, CompressOptions& options) {
-  if (report.split_nonmanifold_edges + report.split_nonmanifold_vertices + report.detached_faces == 0)
-    return 0;
+  if (!report.split_apart()) return 0;
   options.vertex_origin = report.vertex_origin;
   std::vector<std::uint32_t> sorted = report.vertex_origin;
   std::sort(sorted.begin(), sorted.end());

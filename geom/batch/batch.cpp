@@ -127,8 +127,7 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
               b.flipped_faces + b.collapsed_corners + b.cut_edges + b.detached_faces +
               b.dropped_unreferenced;
   // (A pipeline that starts with a repair asked for the split mesh.)
-  if (!repair && b.split_nonmanifold_edges + b.split_nonmanifold_vertices + b.detached_faces > 0)
-    s.origin = b.vertex_origin;
+  if (!repair && b.split_apart()) s.origin = b.vertex_origin;
   if (!std::holds_alternative<ValidateStep>(p.steps.front().options)) s.soup = {};
   s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
 }

@@ -58,6 +58,11 @@ struct BuildReport {
   std::vector<std::uint32_t> vertex_origin;
 
   bool changed() const;
+  /// Whether non-manifold edges or vertices were split apart (or faces detached): some
+  /// output vertices then share an entry of vertex_origin.
+  bool split_apart() const {
+    return split_nonmanifold_edges + split_nonmanifold_vertices + detached_faces > 0;
+  }
 };
 
 struct BuildResult {

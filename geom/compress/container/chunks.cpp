@@ -603,7 +603,6 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   if (!seams_distinct(chunks, flat.positions.size(), grid)) return std::nullopt;
   CompressOptions one = options;
   one.chunk_triangles = 0;
-  one.vertex_origin.clear();  // the whole mesh's, and without a shared entry
   const SurfaceMesh no_attributes;  // the chunks carry positions only
   tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
     chunks[k].result = compress_on_grid(no_attributes, one, chunks[k].flat, grid);

@@ -202,18 +202,26 @@ void encode_generic(ByteWriter& w, const SurfaceMesh& mesh, const std::string& n
   }
 }
 
+/// repeat(i, j) for each i < n whose origin_of(i) an earlier index had, j the first of them.
+template <class Origin, class Repeat>
+void for_each_repeat(std::size_t n, Origin&& origin_of, Repeat&& repeat) {
+  std::unordered_map<std::uint32_t, std::uint32_t> first;
+  first.reserve(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto [at, fresh] = first.try_emplace(origin_of(i), i);
+    if (!fresh) repeat(i, at->second);
+  }
+}
+
 /// Each decoded vertex whose origin an earlier decoded vertex has, with that earlier one:
 /// (copy, representative), copies ascending.
 std::vector<std::array<std::uint32_t, 2>> split_copies(std::span<const std::uint32_t> origin,
                                                        std::span<const std::uint32_t> vertex_order) {
   std::vector<std::array<std::uint32_t, 2>> out;
   if (origin.empty()) return out;
-  std::unordered_map<std::uint32_t, std::uint32_t> first;
-  first.reserve(vertex_order.size());
-  for (std::uint32_t d = 0; d < vertex_order.size(); ++d) {
-    const auto [at, fresh] = first.try_emplace(origin[vertex_order[d]], d);
-    if (!fresh) out.push_back({d, at->second});
-  }
+  for_each_repeat(
+      vertex_order.size(), [&](std::uint32_t d) { return origin[vertex_order[d]]; },
+      [&](std::uint32_t d, std::uint32_t first) { out.push_back({d, first}); });
   return out;
 }
 
@@ -576,18 +584,16 @@ void apply_extension(const ExtensionDecoding& ext, SurfaceMesh& mesh, const Corn
 
 bool has_split_vertices(std::span<const std::uint32_t> vertex_origin,
                         std::span<const Point> positions) {
-  std::unordered_map<std::uint32_t, std::uint32_t> first;
-  first.reserve(vertex_origin.size());
   bool shared = false;
-  for (std::uint32_t v = 0; v < vertex_origin.size(); ++v) {
-    const auto [at, fresh] = first.try_emplace(vertex_origin[v], v);
-    if (fresh) continue;
-    shared = true;
-    if (positions[v] != positions[at->second])
-      throw InvalidArgument("compress: vertices " + str(at->second) + " and " + str(v) +
-                            " share vertex_origin " + str(vertex_origin[v]) +
-                            " but not their position");
-  }
+  for_each_repeat(
+      vertex_origin.size(), [&](std::uint32_t v) { return vertex_origin[v]; },
+      [&](std::uint32_t v, std::uint32_t first) {
+        shared = true;
+        if (positions[v] != positions[first])
+          throw InvalidArgument("compress: vertices " + str(first) + " and " + str(v) +
+                                " share vertex_origin " + str(vertex_origin[v]) +
+                                " but not their position");
+      });
   return shared;
 }
 
