@@ -110,7 +110,8 @@ def decompress_arrays(data):
     float32 when the stream has per-vertex ones, else None. Vertices are in decoding order,
     the same as decompress()'s mesh unless the stream preserved the input order (this path
     ignores the order section); per-corner attributes and other properties need
-    decompress().
+    decompress(). Vertices that compression recorded as split from one (a non-manifold
+    source, ``compress(vertex_origin=...)``) come back joined, as in the source.
 
     Raises geom.DecodeError (a ValueError) naming the byte offset, as decompress().
     """

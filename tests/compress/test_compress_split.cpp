@@ -168,6 +168,48 @@ TEST(CompressSplit, ReorderedStreamJoinsExactlyTheSplitGroups) {
   }
 }
 
+// The flat arrays are the joined soup of decompress(): the source's vertex count, each
+// group one vertex, the same triangles over it (a flat triangle list, unlike a SurfaceMesh,
+// can hold a non-manifold mesh).
+TEST(CompressSplit, FlatDecodeJoinsTheSplitGroups) {
+  for (const PolygonSoup& src : {fin_and_bow_tie(), bow_ties(5), pinched_grid()}) {
+    for (int level : {0, 7, 9}) {
+      SCOPED_TRACE(level);
+      CompressOptions opt;
+      opt.level = level;
+      const Coded r = code(src, opt);
+      ASSERT_TRUE(r.built.report.split_apart());
+      PolygonSoup back = to_soup(r.d.mesh);
+      join_vertices(back, r.d.vertex_representative);
+      const codec::FlatDecode flat = codec::decompress_flat(r.c.bytes);
+      ASSERT_EQ(flat.positions.size(), 3 * src.positions.size());
+      ASSERT_EQ(back.positions.size(), src.positions.size());
+      for (std::size_t v = 0; v < back.positions.size(); ++v)
+        for (int x = 0; x < 3; ++x)
+          EXPECT_NEAR(flat.positions[3 * v + x], back.positions[v][x], 1e-6) << v;
+      // Each face comes back as its k − 2 triangles over its own corners (the quads fanned
+      // from an apex the stream chose), so triangles are matched to faces by vertex sets.
+      std::map<std::set<std::uint32_t>, int> faces;  // corner set -> triangles still due
+      std::size_t due = 0;
+      for (std::size_t f = 0; f < back.n_faces(); ++f) {
+        const auto c = back.face(f);
+        faces[std::set<std::uint32_t>(c.begin(), c.end())] += static_cast<int>(c.size()) - 2;
+        due += c.size() - 2;
+      }
+      ASSERT_EQ(flat.triangles.size(), 3 * due);
+      for (std::size_t t = 0; t < flat.triangles.size(); t += 3) {
+        const std::set<std::uint32_t> tri(flat.triangles.begin() + t, flat.triangles.begin() + t + 3);
+        ASSERT_EQ(tri.size(), 3u) << "triangle " << t / 3 << " repeats a vertex";
+        auto it = std::find_if(faces.begin(), faces.end(), [&](const auto& f) {
+          return f.second > 0 && std::includes(f.first.begin(), f.first.end(), tri.begin(), tri.end());
+        });
+        ASSERT_NE(it, faces.end()) << "triangle " << t / 3 << " lies in no face";
+        --it->second;
+      }
+    }
+  }
+}
+
 TEST(CompressSplit, StreamWithoutSharedOriginsIsUnchanged) {
   const BuildResult b = build(bow_tie());
   std::vector<std::uint32_t> identity(b.mesh.n_vertices());
@@ -235,13 +277,18 @@ std::vector<std::uint8_t> split_stream(const PolygonSoup& src, std::size_t copie
   return b;
 }
 
+// Both decoders reject it with the same message: the flat one reads the split entry too.
 void expect_rejected(const std::vector<std::uint8_t>& bytes, const std::string& what) {
-  try {
-    decompress(bytes);
-    ADD_FAILURE() << "accepted: " << what;
-  } catch (const DecodeError& e) {
-    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("byte"), std::string::npos) << e.what();
+  for (bool flat : {false, true}) {
+    SCOPED_TRACE(flat ? "decompress_flat" : "decompress");
+    try {
+      if (flat) codec::decompress_flat(bytes);
+      else decompress(bytes);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const DecodeError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("byte"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -167,6 +167,12 @@ def test_api_records_split_vertices_given_the_build_report(meshes):
                                      return_representative=True)
     assert perm is not None and np.array_equal(rep, np.array([origin.tolist().index(o) for o in origin]))
     assert np.array_equal(np.unique(rep[np.asarray(out.faces)]), np.arange(5))
+    # The arrays path joins the groups itself: the source's 5 vertices, the fin's three
+    # triangles on one edge (which no half-edge mesh can hold).
+    arrays = geom.decompress_arrays(geom.compress(mesh, vertex_origin=origin))
+    assert arrays.positions.shape == (5, 3) and arrays.triangles.shape == (mesh.n_faces, 3)
+    edges = [tuple(sorted((int(t[i]), int(t[(i + 1) % 3])))) for t in arrays.triangles for i in range(3)]
+    assert max(edges.count(e) for e in edges) == 3
     with pytest.raises(ValueError, match="vertex_origin"):
         geom.compress(mesh, vertex_origin=[0, 1])
 

@@ -342,12 +342,50 @@ FlatDecoder::FlatDecoder(FlatDecoder&&) noexcept = default;
 FlatDecoder& FlatDecoder::operator=(FlatDecoder&&) noexcept = default;
 
 namespace {
+/// A non-manifold source's split copies (FORMAT.md, extension kind 3) joined into their
+/// representatives, as `geom decompress` writes them: a copy's per-vertex values leave the
+/// arrays and its corners take its representative's number, so the arrays hold the source's
+/// vertices. Copies ascend and each representative lies below its copy and is not one
+/// (decode_extension checked), so it is renumbered before its copies are met.
+void join_split(std::span<const std::array<std::uint32_t, 2>> split, FlatDecode& out) {
+  const std::size_t n = out.positions.size() / 3;
+  std::vector<std::uint32_t> to(n);
+  std::size_t next_copy = 0;
+  std::uint32_t kept = 0;
+  auto move_down = [](auto& values, std::size_t dims, std::size_t from, std::size_t at) {
+    if (values.empty()) return;
+    for (std::size_t x = 0; x < dims; ++x) values[dims * at + x] = values[dims * from + x];
+  };
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (next_copy < split.size() && split[next_copy][0] == v) {
+      to[v] = to[split[next_copy++][1]];
+      continue;
+    }
+    move_down(out.positions, 3, v, kept);
+    move_down(out.normals, 3, v, kept);
+    move_down(out.texcoords, 2, v, kept);
+    to[v] = kept++;
+  }
+  out.positions.resize(3 * std::size_t{kept});
+  if (!out.normals.empty()) out.normals.resize(3 * std::size_t{kept});
+  if (!out.texcoords.empty()) out.texcoords.resize(2 * std::size_t{kept});
+  for (std::uint32_t& v : out.triangles) v = to[v];
+}
+
 void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, FlatDecode& out) {
   if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes, ws, out);
   if (ws.cores.empty()) ws.cores.resize(1);
   Core& core = ws.cores[0];
   decode_core_into(bytes, core, ws.scratch.local());
   if (ws.one_shot) ws.scratch.clear();
+  // The block is decoded whole, so that a corrupt one is an error here too, though only
+  // its split vertices reach the arrays.
+  std::vector<std::array<std::uint32_t, 2>> split;
+  if (core.h.flags & kFlagExtension)
+    split = decode_extension(bytes, core.extension_at, core.table, core.q,
+                             core.h.flags & kFlagNormals, core.h.flags & kFlagTexcoords,
+                             rans_lanes(core.h.flags))
+                .split;
   out.positions.clear();  // (so that growing copies nothing)
   out.positions.resize(3 * core.q.size());
   for (std::size_t i = 0; i < core.q.size(); ++i)
@@ -366,6 +404,7 @@ void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, Fla
     const Point t = core.h.uv_quantiser.dequantise(q);
     out.texcoords.insert(out.texcoords.end(), {float(t.x()), float(t.y())});
   }
+  if (!split.empty()) join_split(split, out);
 }
 }  // namespace
 

@@ -178,9 +178,11 @@ struct FlatDecode {
   std::vector<float> normals;
   std::vector<float> texcoords;
 };
-/// Throws: DecodeError as decompress(). Ignores the order section and the extension block
-/// (per-corner and generic attributes: they need the half-edge mesh; split vertices stay
-/// apart, as in the mesh).
+/// Throws: DecodeError as decompress(). Ignores the order section and, of the extension
+/// block, the per-corner and generic attributes (they need the half-edge mesh; the block is
+/// still checked). A non-manifold source's split vertices are joined again (FORMAT.md,
+/// extension kind 3): the arrays hold the source's vertices and triangles, which a
+/// SurfaceMesh cannot.
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
 
 namespace detail {
