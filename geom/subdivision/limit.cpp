@@ -141,6 +141,60 @@ std::uint32_t prev_in_face(const Level& p, std::uint32_t h) {
   return g;
 }
 
+/// Where the two schemes' vertex-points differ; their ring sums and rules are otherwise one.
+struct VertexPoints {
+  std::uint32_t edge_base, vertex_base;  // first child row of the edge-points, vertex-points
+  double edge_weight;                    // of an edge-point in the ring sum
+  bool face_points;                      // Catmull–Clark: face-points in the ring (weight 1)
+};
+
+/// A vertex-point keeps its parent's ring: edge-points of its edges (and, for Catmull–Clark,
+/// face-points of its faces), with the child sharpness.
+template <int W>
+void limit_vertex_points(const Level& p, const Level& c, const double* src, double* dst, int w,
+                         const Context& ctx, const WeightTable& weights, VertexPoints vp) {
+  const std::uint32_t C = p.n_corners;
+  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    Scratch<W> scratch(w);
+    double* sum = scratch.data();
+    for (std::uint32_t v = b; v < end; ++v) {
+      const double* pv = row<W>(src, vp.vertex_base + v, w);
+      double* out = row<W>(dst, vp.vertex_base + v, w);
+      const std::uint32_t h0 = p.vh[v];
+      if (h0 == kNone) {
+        Row<W>::set(out, pv, 1.0, w);
+        continue;
+      }
+      int sharp_edges = 0;
+      std::uint32_t n_faces = 0, ends[2] = {0, 0};
+      Row<W>::zero(sum, w);
+      std::uint32_t h = h0;
+      do {
+        const std::uint32_t ep = vp.edge_base + (h >> 1);
+        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = ep;
+        Row<W>::add(sum, row<W>(src, ep, w), vp.edge_weight, w);
+        if (p.face[h] != kNone) {
+          ++n_faces;
+          if (vp.face_points) Row<W>::add(sum, row<W>(src, p.face[h], w), 1.0, w);
+        }
+        h = p.cw(h);
+      } while (h != h0);
+      const std::uint32_t sharp_at = vp.vertex_base + v;
+      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[sharp_at] : kSmooth, sharp_edges);
+      // A Catmull–Clark vertex of two faces that is not a crease stays put.
+      if (rule == kRuleCorner || (vp.face_points && rule != kRuleCrease && n_faces == 2)) {
+        Row<W>::set(out, pv, 1.0, w);
+      } else if (rule == kRuleCrease) {
+        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
+                  1.0 / 6.0, w);
+      } else {
+        const SmoothWeights sw = weights(n_faces);
+        finish<W>(out, pv, sw.vertex, sum, vp.face_points ? sw.face : sw.edge, w);
+      }
+    }
+  });
+}
+
 /// Catmull-Clark limit of the child level of `p` from the parent's connectivity, element
 /// by element as refinement made the child vertices (face-, edge-, vertex-points), so the
 /// reads and writes run through the arrays in order instead of around scattered rings.
@@ -196,45 +250,7 @@ void limit_catmark_children(const Level& p, const Level& c, const double* src, d
       finish<W>(out, pe, 4.0 / 9.0, sum, 1.0 / 36.0, w);
     }
   });
-  // A vertex-point keeps its parent's ring: edge-points of its edges, face-points of its
-  // faces, with the child sharpness.
-  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    Scratch<W> scratch(w);
-    double* sum = scratch.data();
-    for (std::uint32_t v = b; v < end; ++v) {
-      const double* pv = row<W>(src, FE + v, w);
-      double* out = row<W>(dst, FE + v, w);
-      const std::uint32_t h0 = p.vh[v];
-      if (h0 == kNone) {
-        Row<W>::set(out, pv, 1.0, w);
-        continue;
-      }
-      int sharp_edges = 0;
-      std::uint32_t n_faces = 0, ends[2] = {0, 0};
-      Row<W>::zero(sum, w);
-      std::uint32_t h = h0;
-      do {
-        const std::uint32_t ep = F + (h >> 1);
-        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = ep;
-        Row<W>::add(sum, row<W>(src, ep, w), 4.0, w);
-        if (p.face[h] != kNone) {
-          ++n_faces;
-          Row<W>::add(sum, row<W>(src, p.face[h], w), 1.0, w);
-        }
-        h = p.cw(h);
-      } while (h != h0);
-      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[FE + v] : kSmooth, sharp_edges);
-      if (rule == kRuleCorner || (rule != kRuleCrease && n_faces == 2)) {
-        Row<W>::set(out, pv, 1.0, w);
-      } else if (rule == kRuleCrease) {
-        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
-                  1.0 / 6.0, w);
-      } else {
-        const SmoothWeights sw = weights(n_faces);
-        finish<W>(out, pv, sw.vertex, sum, sw.face, w);
-      }
-    }
-  });
+  limit_vertex_points<W>(p, c, src, dst, w, ctx, weights, {F, FE, 4.0, true});
 }
 
 /// Loop's counterpart: child vertices are edge-points (e) then vertex-points (E + v); an
@@ -269,39 +285,7 @@ void limit_loop_children(const Level& p, const Level& c, const double* src, doub
       finish<W>(out, pe, regular.vertex, sum, regular.edge, w);
     }
   });
-  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    Scratch<W> scratch(w);
-    double* sum = scratch.data();
-    for (std::uint32_t v = b; v < end; ++v) {
-      const double* pv = row<W>(src, E + v, w);
-      double* out = row<W>(dst, E + v, w);
-      const std::uint32_t h0 = p.vh[v];
-      if (h0 == kNone) {
-        Row<W>::set(out, pv, 1.0, w);
-        continue;
-      }
-      int sharp_edges = 0;
-      std::uint32_t n_faces = 0, ends[2] = {0, 0};
-      Row<W>::zero(sum, w);
-      std::uint32_t h = h0;
-      do {
-        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = h >> 1;
-        Row<W>::add(sum, row<W>(src, h >> 1, w), 1.0, w);
-        n_faces += p.face[h] != kNone;
-        h = p.cw(h);
-      } while (h != h0);
-      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[E + v] : kSmooth, sharp_edges);
-      if (rule == kRuleCorner) {
-        Row<W>::set(out, pv, 1.0, w);
-      } else if (rule == kRuleCrease) {
-        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
-                  1.0 / 6.0, w);
-      } else {
-        const SmoothWeights sw = weights(n_faces);
-        finish<W>(out, pv, sw.vertex, sum, sw.edge, w);
-      }
-    }
-  });
+  limit_vertex_points<W>(p, c, src, dst, w, ctx, weights, {0, E, 1.0, false});
 }
 
 Eigen::Vector3d row3(const double* data, std::uint32_t v, int w) {
