@@ -2,6 +2,8 @@
 #include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 
+#include <geom/core/soup.h>
+
 #include <cmath>
 #include <unordered_set>
 
@@ -27,8 +29,30 @@ namespace {
 int refit_rounds(const SimplifyOptions& options, std::size_t input_vertices,
                  std::size_t output_faces) {
   if (options.refit_iterations >= 0) return options.refit_iterations;
-  if (options.attributes.any() || output_faces == 0) return 0;
+  if (output_faces == 0) return 0;
   return refit_needs_surface_samples(input_vertices, output_faces) ? 0 : 1;
+}
+
+/// Appends the vertices on an attribute seam of `mesh` (corners of one vertex with different
+/// per-corner texture coordinates or normals). The collapses keep seams on their lines; the
+/// refit, which moves positions only, would pull a seam vertex off its cut, so it keeps them.
+void add_seam_vertices(const SurfaceMesh& mesh, std::vector<Vertex>& out) {
+  const auto uv = mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  const auto normal = mesh.get_property<Halfedge, Normal>(prop::kCornerNormal);
+  if (!uv && !normal) return;
+  for (Vertex v : mesh.vertices()) {
+    Halfedge first;  // v's first corner (a halfedge ending at v, in a face)
+    for (Halfedge o : mesh.outgoing(v)) {
+      const Halfedge h = SurfaceMesh::opposite(o);
+      if (mesh.is_boundary(h)) continue;
+      if (!first.is_valid()) {
+        first = h;
+      } else if ((uv && uv[h] != uv[first]) || (normal && normal[h] != normal[first])) {
+        out.push_back(v);
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -63,6 +87,7 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
     for (std::size_t i = 0; i < result.vertex_origin.size(); ++i)
       if (locked.contains(result.vertex_origin[i].idx()))
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
+    if (options.attributes.any()) add_seam_vertices(result.mesh, fixed);
     const RefitOptions refit{.iterations = rounds,
                              .min_triangle_quality = options.min_triangle_quality};
     detail::refit_to_surface(result.mesh, mesh, refit, fixed, survivor,

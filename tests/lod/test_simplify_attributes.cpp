@@ -4,6 +4,7 @@
 #include <geom/core/errors.h>
 #include <geom/core/soup.h>
 #include <geom/lod/simplify.h>
+#include <geom/spatial/distance.h>
 
 #include "lod/lod_checks.h"
 
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <set>
 
 namespace geom {
 namespace {
@@ -209,6 +211,49 @@ double colour_rms(const SurfaceMesh& m, auto&& vertex_colour) {
     }
   EXPECT_EQ(count, 39 * 39);
   return std::sqrt(sum / count);
+}
+
+// The default refit runs with attributes too: the same connectivity and attribute values as
+// without it, the seam vertices where the collapses left them, the rest closer to the input.
+TEST(SimplifyAttributes, DefaultRefitKeepsSeamVerticesAndLowersTheError) {
+  const SurfaceMesh m = uv_sphere(24, 48);
+  SimplifyOptions o{.ratio = 0.2};
+  o.attributes.texcoords.enabled = true;
+  const SimplifyResult fitted = simplify(m, o);
+  o.refit_iterations = 0;
+  const SimplifyResult plain = simplify(m, o);
+  ASSERT_EQ(fitted.refit_rounds, 1);
+  ASSERT_EQ(plain.refit_rounds, 0);
+  ASSERT_EQ(fitted.mesh.n_vertices(), plain.mesh.n_vertices());
+  const auto uv_f = fitted.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  const auto uv_p = plain.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  ASSERT_TRUE(uv_f && uv_p);
+  for (Halfedge h : fitted.mesh.halfedges()) {
+    ASSERT_EQ(fitted.mesh.to_vertex(h), plain.mesh.to_vertex(h));
+    if (!fitted.mesh.is_boundary(h)) {
+      EXPECT_EQ(uv_f[h], uv_p[h]);
+    }
+  }
+  std::size_t seam = 0, moved = 0;
+  for (Vertex v : fitted.mesh.vertices()) {
+    std::set<std::pair<double, double>> wedges;
+    for (Halfedge o2 : fitted.mesh.outgoing(v)) {
+      const Halfedge h = SurfaceMesh::opposite(o2);
+      if (!fitted.mesh.is_boundary(h)) wedges.insert({uv_f[h].x(), uv_f[h].y()});
+    }
+    const bool same = fitted.mesh.position(v) == plain.mesh.position(v);
+    if (wedges.size() > 1) {
+      ++seam;
+      EXPECT_TRUE(same) << "seam vertex " << v.idx() << " moved";
+    } else {
+      moved += !same;
+    }
+  }
+  EXPECT_GE(seam, 10u);
+  EXPECT_GT(moved, fitted.mesh.n_vertices() / 2);
+  const double rms_fitted = mesh_distance(fitted.mesh, m).rms;
+  const double rms_plain = mesh_distance(plain.mesh, m).rms;
+  EXPECT_LT(rms_fitted, 0.9 * rms_plain) << rms_fitted << " against " << rms_plain;
 }
 
 TEST(SimplifyAttributes, FlatPlaneKeepsItsColourGradient) {
