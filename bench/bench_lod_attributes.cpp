@@ -187,24 +187,25 @@ void run_attribute_bench(std::size_t faces, double weight, const std::set<std::s
   const std::size_t f0 = in.mesh.triangles.size();
   for (double fraction : {0.5, 0.1, 0.01}) {
     const auto target = static_cast<std::size_t>(std::llround(fraction * f0));
-    double peer_seconds = 0;
-    auto report = [&](const std::string& method, const Textured& out, double seconds) {
+    CpuWall peer{};
+    auto report = [&](const std::string& method, const Textured& out, CpuWall t) {
       const TriangleBvh simplified(out.mesh.positions, out.mesh.triangles);
       const MeshDistance d = mesh_distance(original, simplified, {.samples = 500000});
       const UvError uv = uv_error(original, in, out, 200000);
-      if (method != "ours_attr") peer_seconds = seconds;
-      table.add({name, std::to_string(f0), std::to_string(target), method, fmt(seconds, 4),
-                 method == "ours_attr" ? ratio(seconds, peer_seconds) : std::string("1x"),
-                 std::to_string(out.mesh.triangles.size()), fmt(d.relative_hausdorff(), 3), fmt(d.relative_rms(), 3),
+      const bool ours = method == "ours_attr";
+      if (!ours) peer = t;
+      table.add({name, std::to_string(f0), std::to_string(target), method, fmt(t.cpu, 4),
+                 ours ? ratio(t.cpu, peer.cpu) : std::string("1x"), fmt(t.wall, 4),
+                 ours ? ratio(t.wall, peer.wall) : std::string("1x"), std::to_string(out.mesh.triangles.size()), fmt(d.relative_hausdorff(), 3), fmt(d.relative_rms(), 3),
                  fmt(uv.max, 3), fmt(uv.rms, 3)});
-      std::cerr << name << " " << target << " " << method << " " << seconds << " s\n";
+      std::cerr << name << " " << target << " " << method << " " << t.cpu << " s\n";
     };
     if (peers.count("meshopt_attr")) {
       std::vector<unsigned> out(sp.indices.size());
       std::size_t n = 0;
 #if MESHOPTIMIZER_VERSION >= 210
       const float weights[2] = {float(weight), float(weight)};
-      const double seconds = cpu_time_min([&] {
+      const CpuWall seconds = cpu_wall_min([&] {
         float err = 0;
         n = meshopt_simplifyWithAttributes(out.data(), sp.indices.data(), sp.indices.size(), sp.vertices.data(),
                                            sp.positions.size(), 5 * sizeof(float), sp.vertices.data() + 3,
@@ -212,7 +213,7 @@ void run_attribute_bench(std::size_t faces, double weight, const std::set<std::s
       }, 2);
       report("meshopt_attr", from_split(sp, out, n), seconds);
 #else
-      const double seconds = cpu_time_min([&] {
+      const CpuWall seconds = cpu_wall_min([&] {
         float err = 0;
         n = meshopt_simplify(out.data(), sp.indices.data(), sp.indices.size(), sp.vertices.data(),
                              sp.positions.size(), 5 * sizeof(float), target * 3, 1.0f, 0, &err);
@@ -224,7 +225,7 @@ void run_attribute_bench(std::size_t faces, double weight, const std::set<std::s
       SimplifyOptions o{.target_faces = target};
       o.attributes.texcoords = {.enabled = true, .weight = weight};
       SimplifyResult r;
-      const double seconds = cpu_time_min([&] { r = simplify(mesh, o); }, 2);
+      const CpuWall seconds = cpu_wall_min([&] { r = simplify(mesh, o); }, 2);
       report("ours_attr", from_surface_mesh(r.mesh), seconds);
     }
   }

@@ -59,7 +59,7 @@ class CollapseEngine {
  public:
   /// Pre: mesh is a valid SurfaceMesh. Throws: InvalidArgument on bad options.
   /// Meshes of at least parallel_min_triangles run their collapses region by region on all
-  /// cores (never when recording or with attributes).
+  /// cores (never when recording).
   CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& options, bool record,
                  std::size_t parallel_min_triangles = kParallelMinTriangles);
   // From 50k rather than 100k triangles since the singular quadrics got cheap (the serial

@@ -345,9 +345,10 @@ CollapseEngine::CollapseEngine(const SurfaceMesh& mesh, const SimplifyOptions& o
   if (options.lock_boundary)
     for (std::size_t v = 0; v < n; ++v) vd_[v].locked |= vd_[v].boundary;
   if (options.attributes.any() && !record_) init_attributes(mesh);
-  // A progressive mesh records one global order, and attribute collapses share wedge data
-  // across parts: those stay serial, as do meshes too small to repay the barriers.
-  if (!record_ && !attributes_ && triangles_.size() >= parallel_min_triangles &&
+  // A progressive mesh records one global order: it stays serial, as do meshes too small to
+  // repay the barriers. Attribute data keeps to the parts (a wedge belongs to one vertex, a
+  // corner's wedge to its triangle; see collapse_loop.cpp).
+  if (!record_ && triangles_.size() >= parallel_min_triangles &&
       n >= 64 * kParts)
     partition(pos);
 

@@ -102,8 +102,8 @@ struct SimplifyResult {
 /// Simplify a mesh by collapsing edges in order of quadric error until the target is met.
 /// The result keeps the input's topology: it stays manifold (link condition), keeps its
 /// boundary loops, genus and components, no face flips against its previous normal, and
-/// no two boundaries are merged. Isolated vertices are dropped. From 50k triangles (without
-/// attributes) the collapses run region by region on all cores, in an order close to, but not
+/// no two boundaries are merged. Isolated vertices are dropped. From 50k triangles (with
+/// attributes too) the collapses run region by region on all cores, in an order close to, but not
 /// the same as, the one-core order; the result is the same on any number of cores.
 /// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN, an
 /// attribute weight is negative or not finite, an enabled attribute is not on the mesh, or

@@ -2,6 +2,7 @@
 // that path in simplify(); these tests call detail::simplify with the threshold at 0, so
 // that meshes of a few ten thousand triangles take it and the tests stay fast.
 
+#include <geom/core/soup.h>
 #include <geom/core/topology.h>
 #include <geom/lod/collapse.h>
 #include <geom/lod/simplify.h>
@@ -13,12 +14,16 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
+#include <numbers>
+#include <vector>
 
 namespace geom {
 namespace {
 
 constexpr std::size_t kAlways = 0;
+constexpr double kPi = std::numbers::pi;
 
 SimplifyResult parallel_simplify(const SurfaceMesh& m, const SimplifyOptions& options) {
   return detail::simplify(m, options, kAlways);
@@ -126,6 +131,68 @@ TEST(SimplifyParallel, LockedVerticesNeverMove) {
   test::expect_locked_vertices_stay(noisy_torus(), [](const SurfaceMesh& m, std::vector<Vertex> locked) {
     return parallel_simplify(m, {.ratio = 0.1, .locked = std::move(locked)});
   });
+}
+
+// The noisy torus with per-corner texture coordinates from its angles, cut along u = 0 and
+// v = 0 (a face across a cut takes u + 1 or v + 1 at its corners below it): two seams that
+// cross every part.
+SurfaceMesh uv_torus() {
+  SurfaceMesh m = noisy_torus();
+  auto uv = m.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  auto chart = [&](Vertex v) {
+    const Point& p = m.position(v);
+    const double rho = std::hypot(p.x(), p.y());
+    auto turn = [](double a) { return a < 0 ? a / (2 * kPi) + 1 : a / (2 * kPi); };
+    return TexCoord(turn(std::atan2(p.y(), p.x())), turn(std::atan2(p.z(), rho - 1)));
+  };
+  for (Face f : m.faces()) {
+    std::vector<Halfedge> hs;
+    for (Halfedge h : m.halfedges(f)) hs.push_back(h);
+    std::vector<TexCoord> t;
+    for (Halfedge h : hs) t.push_back(chart(m.to_vertex(h)));
+    for (int x = 0; x < 2; ++x) {
+      double hi = 0;
+      for (const TexCoord& c : t) hi = std::max(hi, c[x]);
+      for (TexCoord& c : t)
+        if (hi - c[x] > 0.5) c[x] += 1;
+    }
+    for (std::size_t k = 0; k < hs.size(); ++k) uv[hs[k]] = t[k];
+  }
+  return m;
+}
+
+TEST(SimplifyParallel, AttributesSameResultOnOneThreadAsOnAllAndSeamsKept) {
+  // Wedge data belongs to a vertex and corner wedges to a triangle, so attribute collapses
+  // keep to their part as the geometric ones do (collapse_loop.cpp).
+  const SurfaceMesh m = uv_torus();
+  SimplifyOptions o{.ratio = 0.1};
+  o.attributes.texcoords.enabled = true;
+  ASSERT_GT(detail::CollapseEngine(m, o, false, kAlways).n_parts(), 0u);
+  SimplifyResult one;
+  {
+    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one = parallel_simplify(m, o);
+  }
+  const SimplifyResult all = parallel_simplify(m, o);
+  EXPECT_EQ(one.collapses, all.collapses);
+  EXPECT_EQ(hash(one.mesh), hash(all.mesh));
+  const auto uv_one = one.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  const auto uv = all.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  ASSERT_TRUE(uv_one && uv);
+  std::size_t differ = 0;
+  for (Halfedge h : all.mesh.halfedges())
+    if (!all.mesh.is_boundary(h)) differ += uv[h] != uv_one[h];
+  EXPECT_EQ(differ, 0u);
+  test::expect_same_topology(m, all.mesh);
+  EXPECT_EQ(test::orientation_disagreements(m, all.mesh), 0u);
+  EXPECT_LE(all.faces_after, m.n_faces() / 10 + 1);
+  // No face spans a cut: its corners' chart values stay within half a turn.
+  for (Face f : all.mesh.faces())
+    for (int x = 0; x < 2; ++x) {
+      double lo = 3, hi = -3;
+      for (Halfedge h : all.mesh.halfedges(f)) lo = std::min(lo, uv[h][x]), hi = std::max(hi, uv[h][x]);
+      EXPECT_LT(hi - lo, 0.5) << "face " << f.idx() << " spans a seam";
+    }
 }
 
 TEST(SimplifyParallel, CancelStopsBetweenSteps) {
