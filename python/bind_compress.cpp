@@ -125,7 +125,9 @@ void bind_compress(py::module_& m) {
         return py::make_tuple(owning_array(std::move(f.positions), 3, false),
                               owning_array(std::move(f.triangles), 3, false),
                               owning_array(std::move(f.normals), 3, true),
-                              owning_array(std::move(f.texcoords), 2, true));
+                              owning_array(std::move(f.texcoords), 2, true),
+                              owning_array(std::move(f.corner_normals), 3, true),
+                              owning_array(std::move(f.corner_texcoords), 2, true));
       },
       py::arg("data"));
 }

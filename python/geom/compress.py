@@ -20,7 +20,8 @@ Permutation.__doc__ = """Input index of each decoded vertex (``vertices``) and f
 as int64 numpy arrays: decoded vertex i came from input vertex ``vertices[i]``; indices are
 dense (live elements counted in index order)."""
 
-DecodedArrays = namedtuple("DecodedArrays", ["positions", "triangles", "normals", "texcoords"])
+DecodedArrays = namedtuple("DecodedArrays", ["positions", "triangles", "normals", "texcoords",
+                                             "corner_normals", "corner_texcoords"])
 DecodedArrays.__doc__ = "What decompress_arrays() returns (numpy arrays; see there)."
 
 
@@ -104,15 +105,22 @@ def decompress_arrays(data):
     path for renderers and numpy code (on a 1M-triangle stream 3× faster than decompress(),
     whose mesh linking dominates).
 
-    Returns a DecodedArrays ``(positions, triangles, normals, texcoords)``: ``positions`` a
+    Returns a DecodedArrays ``(positions, triangles, normals, texcoords, corner_normals,
+    corner_texcoords)``: ``positions`` a
     V×3 float32 array, ``triangles`` a T×3 uint32 array of vertex indices (a polygon comes
     back as triangles over its own corners), ``normals`` V×3 float32 and ``texcoords`` V×2
-    float32 when the stream has per-vertex ones, else None. Vertices are in decoding order,
-    the same as decompress()'s mesh unless the stream preserved the input order (this path
-    ignores the order section); per-corner attributes and other properties need
-    decompress(). Vertices that compression recorded as split from one (a non-manifold
-    source, ``compress(vertex_origin=...)``) come back joined, as in the source.
+    float32 when the stream has per-vertex ones, else None; ``corner_normals`` T×3×3 and
+    ``corner_texcoords`` T×3×2 float32 (``[t, k]`` belongs to corner k of triangle t) when it
+    has per-corner ones (UV seams, normal creases), else None. Vertices are in decoding
+    order, the same as decompress()'s mesh unless the stream preserved the input order (this
+    path ignores the order section); other properties need decompress(). Vertices that
+    compression recorded as split from one (a non-manifold source,
+    ``compress(vertex_origin=...)``) come back joined, as in the source.
 
     Raises geom.DecodeError (a ValueError) naming the byte offset, as decompress().
     """
-    return DecodedArrays(*_geom.decompress_flat(bytes(data)))
+    arrays = list(_geom.decompress_flat(bytes(data)))
+    for k, dims in ((4, 3), (5, 2)):  # per corner: T×3×dims, corner k of triangle t at [t, k]
+        if arrays[k] is not None:
+            arrays[k] = arrays[k].reshape(-1, 3, dims)
+    return DecodedArrays(*arrays)

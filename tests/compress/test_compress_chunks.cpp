@@ -216,6 +216,19 @@ void expect_same_flat(const codec::FlatDecode& a, const codec::FlatDecode& b) {
   EXPECT_TRUE(std::ranges::equal(a.triangles, b.triangles));
   EXPECT_EQ(a.normals, b.normals);
   EXPECT_EQ(a.texcoords, b.texcoords);
+  EXPECT_EQ(a.corner_normals, b.corner_normals);
+  EXPECT_EQ(a.corner_texcoords, b.corner_texcoords);
+}
+
+// A torus whose faces alternate between two UV charts: per-corner texture coordinates with
+// a seam on every other edge.
+SurfaceMesh torus_with_corner_uvs() {
+  SurfaceMesh m = test::torus(16, 10).build();
+  auto uv = m.add_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  for (Face f : m.faces())
+    for (Halfedge h : m.halfedges(f))
+      uv[h] = m.position(m.to_vertex(h)).head<2>() + TexCoord(f.idx() % 2 ? 3.0 : 0.0, 0.0);
+  return m;
 }
 
 // One FlatDecoder keeps its memory from stream to stream: chunked and single streams, larger
@@ -227,10 +240,13 @@ TEST(Chunks, OneFlatDecoderDecodesStreamAfterStream) {
       compress(torus_with_normals(), {.level = 5}).bytes,
       compress(big, {.bits = 14, .level = 7, .chunk_triangles = kChunk}).bytes,
       compress(big, {.bits = 14, .level = 9, .chunk_triangles = 0}).bytes,
+      compress(torus_with_corner_uvs(), {.level = 7}).bytes,  // then a chunked one
       compress(test::torus(200, 100).build(), {.bits = 14, .level = 1, .chunk_triangles = kChunk}).bytes,
       compress(test::grid(20, 10, true).build(), {.level = 7}).bytes};
   ASSERT_EQ(streams[0][4], 2);  // normals
   ASSERT_EQ(streams[1][4], 3);  // chunked
+  ASSERT_FALSE(codec::decompress_flat(streams[3]).corner_texcoords.empty());
+  ASSERT_EQ(streams[4][4], 3);
   codec::FlatDecoder decoder;
   codec::FlatDecode out;
   for (int round = 0; round < 2; ++round) {

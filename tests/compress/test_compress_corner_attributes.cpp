@@ -122,6 +122,36 @@ std::size_t count_seams(const SurfaceMesh& m, const char* name) {
   return n;
 }
 
+/// The flat decode's per-corner values are the mesh decode's, corner by corner (for streams
+/// without an order section, where both number the vertices as decoded): the corner 3t + k
+/// of flat triangle t is the corner of the mesh face holding that triangle at its vertex.
+template <class T>
+void expect_flat_corners_match(const CompressResult& c, const DecompressResult& d, const char* name) {
+  const codec::FlatDecode flat = codec::decompress_flat(c.bytes);
+  constexpr bool kNormal = std::is_same_v<T, Normal>;
+  constexpr std::size_t dims = kNormal ? 3 : 2;
+  const std::vector<float>& values = kNormal ? flat.corner_normals : flat.corner_texcoords;
+  ASSERT_EQ(values.size(), dims * flat.triangles.size());
+  EXPECT_TRUE((kNormal ? flat.corner_texcoords : flat.corner_normals).empty());
+  const auto p = d.mesh.get_property<Halfedge, T>(name);
+  for (std::size_t c3 = 0; c3 < flat.triangles.size(); ++c3) {
+    const std::size_t t = c3 / 3, k = c3 % 3;
+    const Vertex v(flat.triangles[c3]), a(flat.triangles[3 * t + (k + 1) % 3]),
+        b(flat.triangles[3 * t + (k + 2) % 3]);
+    Halfedge match;
+    for (Halfedge o : d.mesh.outgoing(v)) {
+      const Halfedge h = SurfaceMesh::opposite(o);  // ends at v
+      if (d.mesh.is_boundary(h)) continue;
+      bool has_a = false, has_b = false;
+      for (Vertex x : d.mesh.vertices(d.mesh.face(h))) has_a |= x == a, has_b |= x == b;
+      if (has_a && has_b) match = h;
+    }
+    ASSERT_TRUE(match.is_valid()) << "corner " << c3;
+    for (std::size_t x = 0; x < dims; ++x)
+      ASSERT_NEAR(values[dims * c3 + x], p[match][static_cast<int>(x)], 1e-6) << "corner " << c3;
+  }
+}
+
 /// Round trip a per-corner property; returns the compress result for more checks.
 template <class T>
 CompressResult expect_corner_round_trip(const SurfaceMesh& in, const char* name,
@@ -154,6 +184,7 @@ CompressResult expect_corner_round_trip(const SurfaceMesh& in, const char* name,
                seam_out = p_out[ho] != p_out[d.mesh.prev(oo)];
     ASSERT_EQ(seam_in, seam_out) << "halfedge " << hi.idx();
   });
+  if (!opt.preserve_order) expect_flat_corners_match<T>(c, d, name);
   std::size_t corners = 0;
   for (Face f : in.faces()) corners += in.valence(f);
   EXPECT_LE(c.bytes.size(), max_compressed_size(in.n_vertices(), in.n_faces(), corners, 2, 2, 0));
@@ -230,6 +261,12 @@ TEST(CompressCornerAttributes, CornerValuesEqualToVertexValuesCostTwoBytes) {
   ASSERT_TRUE(tv_out && th_out);
   for (Face f : d.mesh.faces())
     for (Halfedge h : d.mesh.halfedges(f)) ASSERT_EQ(th_out[h], tv_out[d.mesh.to_vertex(h)]);
+  // The flat decode gives each corner its vertex's value.
+  const codec::FlatDecode flat = codec::decompress_flat(c.bytes);
+  ASSERT_EQ(flat.corner_texcoords.size(), 2 * flat.triangles.size());
+  for (std::size_t k = 0; k < flat.triangles.size(); ++k)
+    for (std::size_t x = 0; x < 2; ++x)
+      ASSERT_EQ(flat.corner_texcoords[2 * k + x], flat.texcoords[2 * flat.triangles[k] + x]);
   // texcoord_bits = 0 drops both, and says so.
   const CompressResult alone = compress(m, {.texcoord_bits = 0});
   EXPECT_EQ(alone.stats.dropped_properties,

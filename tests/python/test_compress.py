@@ -283,6 +283,24 @@ def test_corner_uvs_with_a_seam_and_colours_round_trip(tmp_path):
     assert np.abs(uv_out - uv).max() <= coded["h:texcoord"].max_error * (1 + 1e-9)
     # The seam survives: the last quad's right corners sit at u = 1, the first's left at 0.
     assert uv_out[-1, 1, 0] > 0.99 and uv_out[0, 0, 0] < 0.01
+    # The arrays path: each triangle corner's UV, at both sides of the seam. A flat corner
+    # matches a source corner at its position (the band's vertices lie 30 degrees apart).
+    arrays = geom.decompress_arrays(data)
+    assert arrays.corner_normals is None and arrays.corner_texcoords.shape == (len(uv) * 2, 3, 2)
+    src_v = np.asarray(mesh.vertices)
+    src_pos = np.array([[src_v[vi] for vi in f] for f in np.asarray(mesh.faces)]).reshape(-1, 3)
+    src_uv = uv.reshape(-1, 2)
+    bound = coded["h:texcoord"].max_error * (1 + 1e-6) + 1e-6  # + float32 rounding
+    for tri, uvs in zip(arrays.triangles, arrays.corner_texcoords):
+        for v, t in zip(tri, uvs):
+            at = np.linalg.norm(src_pos - arrays.positions[v], axis=1) < 1e-2
+            assert np.abs(src_uv[at] - t).max(axis=1).min() <= bound, (v, t)
+    # Across the seam one vertex carries u = 1 in one triangle and u = 0 in another.
+    u_of = {}
+    for tri, uvs in zip(arrays.triangles, arrays.corner_texcoords):
+        for v, t in zip(tri, uvs):
+            u_of.setdefault(int(v), set()).add(round(float(t[0]), 3))
+    assert sum(1 for us in u_of.values() if 0.0 in us and 1.0 in us) == 2
     rows, _ = read_obj(back)
     bound = 0.5 * (color.max(axis=0) - color.min(axis=0)) / (2 ** 12 - 1)
     assert np.all(np.abs(rows["v"][:, 3:] - color) <= bound * (1 + 1e-9) + 1e-15)

@@ -682,6 +682,8 @@ void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, Fla
       });
   out.normals.clear();
   out.texcoords.clear();
+  out.corner_normals.clear();  // chunks carry no extension block
+  out.corner_texcoords.clear();
   const Quantiser& grid = d.cores[0].h.quantiser;  // every chunk's (check_chunks_agree)
   // No merged table: flat output needs no opposites, so the seams are never zipped. Each
   // chunk writes its own corners and its own vertices (merged ones are an earlier chunk's,

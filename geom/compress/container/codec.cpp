@@ -372,20 +372,45 @@ void join_split(std::span<const std::array<std::uint32_t, 2>> split, FlatDecode&
   for (std::uint32_t& v : out.triangles) v = to[v];
 }
 
+/// The per-corner normals and texture coordinates, corner by corner as the triangles list
+/// them (the table's corners: FlatDecode::triangles is the table); a corner attribute equal
+/// to the vertex one (mode 1) takes its vertex's value.
+void corner_values(const ExtensionDecoding& ext, FlatDecode& out) {
+  out.corner_normals.clear();
+  out.corner_texcoords.clear();
+  for (const DecodedCornerAttribute& a : ext.corners) {
+    const std::size_t dims = a.normal ? 3 : 2;
+    std::vector<float>& to = a.normal ? out.corner_normals : out.corner_texcoords;
+    const std::vector<float>& per_vertex = a.normal ? out.normals : out.texcoords;
+    to.resize(dims * out.triangles.size());
+    for (std::size_t c = 0; c < out.triangles.size(); ++c) {
+      float* v = to.data() + dims * c;
+      if (a.from_vertex) {
+        std::copy_n(per_vertex.data() + dims * out.triangles[c], dims, v);
+      } else if (a.normal) {
+        const Normal n = octahedral_dequantise({a.values[c][0], a.values[c][1], 0}, a.bits);
+        v[0] = float(n.x()), v[1] = float(n.y()), v[2] = float(n.z());
+      } else {
+        v[0] = float(a.origin[0] + a.step * a.values[c][0]);
+        v[1] = float(a.origin[1] + a.step * a.values[c][1]);
+      }
+    }
+  }
+}
+
 void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, FlatDecode& out) {
   if (detail::is_chunked(bytes)) return detail::decode_chunked_flat(bytes, ws, out);
   if (ws.cores.empty()) ws.cores.resize(1);
   Core& core = ws.cores[0];
   decode_core_into(bytes, core, ws.scratch.local());
   if (ws.one_shot) ws.scratch.clear();
-  // The block is decoded whole, so that a corrupt one is an error here too, though only
-  // its split vertices reach the arrays.
-  std::vector<std::array<std::uint32_t, 2>> split;
+  // The block is decoded whole, so that a corrupt one is an error here too, though its
+  // generic attributes do not reach the arrays.
+  ExtensionDecoding ext;
   if (core.h.flags & kFlagExtension)
-    split = decode_extension(bytes, core.extension_at, core.table, core.q,
-                             core.h.flags & kFlagNormals, core.h.flags & kFlagTexcoords,
-                             rans_lanes(core.h.flags))
-                .split;
+    ext = decode_extension(bytes, core.extension_at, core.table, core.q,
+                           core.h.flags & kFlagNormals, core.h.flags & kFlagTexcoords,
+                           rans_lanes(core.h.flags));
   out.positions.clear();  // (so that growing copies nothing)
   out.positions.resize(3 * core.q.size());
   for (std::size_t i = 0; i < core.q.size(); ++i)
@@ -404,7 +429,8 @@ void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, Fla
     const Point t = core.h.uv_quantiser.dequantise(q);
     out.texcoords.insert(out.texcoords.end(), {float(t.x()), float(t.y())});
   }
-  if (!split.empty()) join_split(split, out);
+  if (!ext.split.empty()) join_split(ext.split, out);
+  corner_values(ext, out);
 }
 }  // namespace
 

@@ -177,10 +177,14 @@ struct FlatDecode {
   geom::detail::UninitialisedVector<std::uint32_t> triangles;
   std::vector<float> normals;
   std::vector<float> texcoords;
+  /// Per triangle corner, in the order of `triangles` (xyz / uv for corner 3t + k), when the
+  /// stream has per-corner normals / texture coordinates ("h:normal", "h:texcoord": creases,
+  /// UV seams), else empty.
+  std::vector<float> corner_normals;
+  std::vector<float> corner_texcoords;
 };
 /// Throws: DecodeError as decompress(). Ignores the order section and, of the extension
-/// block, the per-corner and generic attributes (they need the half-edge mesh; the block is
-/// still checked). A non-manifold source's split vertices are joined again (FORMAT.md,
+/// block, the generic attributes (the block is still checked whole). A non-manifold source's split vertices are joined again (FORMAT.md,
 /// extension kind 3): the arrays hold the source's vertices and triangles, which a
 /// SurfaceMesh cannot.
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);
