@@ -82,52 +82,6 @@ void finish(double* out, const double* v, double wv, const double* sum, double w
   for (int k = 0; k < (W ? W : w); ++k) out[k] = wv * v[k] + ws * sum[k];
 }
 
-/// Limit masks over a level's own connectivity: one walk around each vertex's ring. Edge
-/// ends count 4 and opposite corners 1 in `sum` (Catmull-Clark's edge weight is four
-/// times its face weight), so one weight finishes the smooth mask.
-template <int W>
-void limit_level(const Level& l, const double* src, double* dst, int w, const Context& ctx) {
-  const bool sharp = l.has_sharpness();
-  const WeightTable weights(ctx.catmark);
-  const double edge_scale = ctx.catmark ? 4.0 : 1.0;
-  for_range(l.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    Scratch<W> scratch(w);
-    double* sum = scratch.data();
-    for (std::uint32_t v = b; v < end; ++v) {
-      const double* pv = row<W>(src, v, w);
-      double* out = row<W>(dst, v, w);
-      const std::uint32_t h0 = l.vh[v];
-      if (h0 == kNone) {
-        Row<W>::set(out, pv, 1.0, w);
-        continue;
-      }
-      int sharp_edges = 0;
-      std::uint32_t n_faces = 0, ends[2] = {0, 0};
-      Row<W>::zero(sum, w);
-      std::uint32_t h = h0;
-      do {
-        const std::uint32_t to = l.to[h];
-        if (sharp && is_sharp(l.esharp[h >> 1])) ends[sharp_edges++ & 1] = to;
-        Row<W>::add(sum, row<W>(src, to, w), edge_scale, w);
-        if (l.face[h] != kNone) {
-          ++n_faces;
-          if (ctx.catmark) Row<W>::add(sum, row<W>(src, l.to[l.next[h]], w), 1.0, w);
-        }
-        h = l.cw(h);
-      } while (h != h0);
-      const Rule rule = vertex_rule(sharp ? l.vsharp[v] : kSmooth, sharp_edges);
-      if (rule == kRuleCorner || (rule != kRuleCrease && ctx.catmark && n_faces == 2)) {
-        Row<W>::set(out, pv, 1.0, w);
-      } else if (rule == kRuleCrease) {
-        blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
-                  1.0 / 6.0, w);
-      } else {
-        const SmoothWeights sw = weights(n_faces);
-        finish<W>(out, pv, sw.vertex, sum, ctx.catmark ? sw.face : sw.edge, w);
-      }
-    }
-  });
-}
 
 /// Sharpness of edge e of the refined level `c` (smooth when nothing in it is sharp).
 float edge_sharpness(const Level& c, std::uint32_t e) {
@@ -141,26 +95,46 @@ std::uint32_t prev_in_face(const Level& p, std::uint32_t h) {
   return g;
 }
 
-/// Where the two schemes' vertex-points differ; their ring sums and rules are otherwise one.
-struct VertexPoints {
-  std::uint32_t edge_base, vertex_base;  // first child row of the edge-points, vertex-points
-  double edge_weight;                    // of an edge-point in the ring sum
-  bool face_points;                      // Catmull–Clark: face-points in the ring (weight 1)
+/// Where a vertex's limit mask finds its ring, as rows of src: the level's own neighbours
+/// (LevelRing), or for the child level's vertex-points the edge- and face-points made from
+/// the parent's ring, with the child's sharpness (ChildRing). The mask is one (vertex_masks).
+struct LevelRing {
+  const Level& l;
+  std::uint32_t vertex(std::uint32_t v) const { return v; }
+  std::uint32_t edge_end(std::uint32_t h) const { return l.to[h]; }
+  std::uint32_t opposite(std::uint32_t h) const { return l.to[l.next[h]]; }  // Catmull-Clark
+  bool edge_sharp(std::uint32_t h) const { return l.has_sharpness() && is_sharp(l.esharp[h >> 1]); }
+  float vertex_sharpness(std::uint32_t v) const { return l.has_sharpness() ? l.vsharp[v] : kSmooth; }
 };
 
-/// A vertex-point keeps its parent's ring: edge-points of its edges (and, for Catmull–Clark,
-/// face-points of its faces), with the child sharpness.
-template <int W>
-void limit_vertex_points(const Level& p, const Level& c, const double* src, double* dst, int w,
-                         const Context& ctx, const WeightTable& weights, VertexPoints vp) {
-  const std::uint32_t C = p.n_corners;
-  for_range(p.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+struct ChildRing {
+  const Level& p;  // the parent, whose ring is walked
+  const Level& c;
+  std::uint32_t edge_base, vertex_base;  // first child row of the edge-points, vertex-points
+  std::uint32_t vertex(std::uint32_t v) const { return vertex_base + v; }
+  std::uint32_t edge_end(std::uint32_t h) const { return edge_base + (h >> 1); }
+  std::uint32_t opposite(std::uint32_t h) const { return p.face[h]; }  // the face-point
+  bool edge_sharp(std::uint32_t h) const { return is_sharp(edge_sharpness(c, p.n_corners + h)); }
+  float vertex_sharpness(std::uint32_t v) const {
+    return c.has_sharpness() ? c.vsharp[vertex_base + v] : kSmooth;
+  }
+};
+
+/// The limit masks of the vertices of `walk`, one walk around each ring. Edge ends count 4
+/// and opposite corners 1 in `sum` for Catmull-Clark (its edge weight is four times its face
+/// weight), edge ends 1 for Loop, so one weight finishes the smooth mask.
+template <int W, class Ring>
+void vertex_masks(const Level& walk, const Ring& ring, const double* src, double* dst, int w,
+                  const Context& ctx) {
+  const WeightTable weights(ctx.catmark);
+  const double edge_weight = ctx.catmark ? 4.0 : 1.0;
+  for_range(walk.nv, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
     Scratch<W> scratch(w);
     double* sum = scratch.data();
     for (std::uint32_t v = b; v < end; ++v) {
-      const double* pv = row<W>(src, vp.vertex_base + v, w);
-      double* out = row<W>(dst, vp.vertex_base + v, w);
-      const std::uint32_t h0 = p.vh[v];
+      const double* pv = row<W>(src, ring.vertex(v), w);
+      double* out = row<W>(dst, ring.vertex(v), w);
+      const std::uint32_t h0 = walk.vh[v];
       if (h0 == kNone) {
         Row<W>::set(out, pv, 1.0, w);
         continue;
@@ -170,29 +144,34 @@ void limit_vertex_points(const Level& p, const Level& c, const double* src, doub
       Row<W>::zero(sum, w);
       std::uint32_t h = h0;
       do {
-        const std::uint32_t ep = vp.edge_base + (h >> 1);
-        if (is_sharp(edge_sharpness(c, C + h))) ends[sharp_edges++ & 1] = ep;
-        Row<W>::add(sum, row<W>(src, ep, w), vp.edge_weight, w);
-        if (p.face[h] != kNone) {
+        const std::uint32_t e = ring.edge_end(h);
+        if (ring.edge_sharp(h)) ends[sharp_edges++ & 1] = e;
+        Row<W>::add(sum, row<W>(src, e, w), edge_weight, w);
+        if (walk.face[h] != kNone) {
           ++n_faces;
-          if (vp.face_points) Row<W>::add(sum, row<W>(src, p.face[h], w), 1.0, w);
+          if (ctx.catmark) Row<W>::add(sum, row<W>(src, ring.opposite(h), w), 1.0, w);
         }
-        h = p.cw(h);
+        h = walk.cw(h);
       } while (h != h0);
-      const std::uint32_t sharp_at = vp.vertex_base + v;
-      const Rule rule = vertex_rule(c.has_sharpness() ? c.vsharp[sharp_at] : kSmooth, sharp_edges);
-      // A Catmull–Clark vertex of two faces that is not a crease stays put.
-      if (rule == kRuleCorner || (vp.face_points && rule != kRuleCrease && n_faces == 2)) {
+      const Rule rule = vertex_rule(ring.vertex_sharpness(v), sharp_edges);
+      // A Catmull-Clark vertex of two faces that is not a crease stays put.
+      if (rule == kRuleCorner || (rule != kRuleCrease && ctx.catmark && n_faces == 2)) {
         Row<W>::set(out, pv, 1.0, w);
       } else if (rule == kRuleCrease) {
         blend2<W>(out, pv, 2.0 / 3.0, row<W>(src, ends[0], w), row<W>(src, ends[1], w),
                   1.0 / 6.0, w);
       } else {
         const SmoothWeights sw = weights(n_faces);
-        finish<W>(out, pv, sw.vertex, sum, vp.face_points ? sw.face : sw.edge, w);
+        finish<W>(out, pv, sw.vertex, sum, ctx.catmark ? sw.face : sw.edge, w);
       }
     }
   });
+}
+
+/// Limit masks over a level's own connectivity.
+template <int W>
+void limit_level(const Level& l, const double* src, double* dst, int w, const Context& ctx) {
+  vertex_masks<W>(l, LevelRing{l}, src, dst, w, ctx);
 }
 
 /// Catmull-Clark limit of the child level of `p` from the parent's connectivity, element
@@ -250,7 +229,7 @@ void limit_catmark_children(const Level& p, const Level& c, const double* src, d
       finish<W>(out, pe, 4.0 / 9.0, sum, 1.0 / 36.0, w);
     }
   });
-  limit_vertex_points<W>(p, c, src, dst, w, ctx, weights, {F, FE, 4.0, true});
+  vertex_masks<W>(p, ChildRing{p, c, F, FE}, src, dst, w, ctx);
 }
 
 /// Loop's counterpart: child vertices are edge-points (e) then vertex-points (E + v); an
@@ -285,7 +264,7 @@ void limit_loop_children(const Level& p, const Level& c, const double* src, doub
       finish<W>(out, pe, regular.vertex, sum, regular.edge, w);
     }
   });
-  limit_vertex_points<W>(p, c, src, dst, w, ctx, weights, {0, E, 1.0, false});
+  vertex_masks<W>(p, ChildRing{p, c, 0, E}, src, dst, w, ctx);
 }
 
 Eigen::Vector3d row3(const double* data, std::uint32_t v, int w) {
