@@ -204,9 +204,18 @@ struct Scratch {
 class Refitter {
  public:
   Refitter(SurfaceMesh& mesh, const SurfaceMesh& original, const RefitOptions& options,
-           std::span<const Vertex> fixed, std::span<const Vertex> survivor)
+           std::span<const Vertex> fixed, std::span<const Vertex> survivor,
+           std::span<const detail::RefitLine> lines)
       : mesh_(mesh), original_(original), options_(options), survivor_(survivor),
-        free_(mesh.vertices_size(), 1) {
+        free_(mesh.vertices_size(), kFree) {
+    if (!lines.empty()) line_.assign(free_.size(), Vector3::Zero());
+    for (const detail::RefitLine& l : lines) {
+      if (l.vertex.idx() >= free_.size()) continue;
+      // Without a direction (a degenerate fan's zero normal) the vertex stays.
+      const bool valid = l.direction.allFinite() && l.direction.squaredNorm() > 0;
+      free_[l.vertex.idx()] = valid ? kOnLine : 0;
+      if (valid) line_[l.vertex.idx()] = l.direction.normalized();
+    }
     for (Vertex v : fixed)
       if (v.idx() < free_.size()) free_[v.idx()] = 0;
     // Boundary vertices stay: the simplifier promised to keep boundaries where they are.
@@ -615,7 +624,7 @@ class Refitter {
     A << a00, a10, a20, a10, a11, a21, a20, a21, a22;
     if (!(weight > 0)) return;
     A.diagonal().array() += options_.regularization * weight;
-    Vector3 delta = -A.ldlt().solve(g);
+    Vector3 delta = free_[v.idx()] == kOnLine ? on_line(line_[v.idx()], A, g) : Vector3(-A.ldlt().solve(g));
     if (!delta.allFinite()) return;
     // Halve a move that would fold or crush a fan triangle or raise the local Hausdorff
     // distance; give up after a few tries.
@@ -629,6 +638,12 @@ class Refitter {
         return;
       }
     }
+  }
+
+  // The minimiser of move()'s quadratic (A, g) on the line through the vertex along unit d.
+  static Vector3 on_line(const Vector3& d, const Eigen::Matrix3d& A, const Vector3& g) {
+    const double curvature = d.dot(A * d);  // > 0: A is the regularised normal matrix
+    return -(d.dot(g) / curvature) * d;
   }
 
   // Distance from x to the original fan of probe i's original vertex: an upper bound on x's
@@ -763,7 +778,10 @@ class Refitter {
   const SurfaceMesh& original_;
   const RefitOptions& options_;
   std::span<const Vertex> survivor_;
+  // Per vertex: 0 (stays), kFree or kOnLine (moves along line_[v] only).
+  static constexpr std::uint8_t kFree = 1, kOnLine = 2;
   std::vector<std::uint8_t> free_;
+  std::vector<Vector3> line_;  // empty without lines
   std::vector<std::array<std::uint32_t, 3>> tri_;
   std::vector<std::uint32_t> fan_start_, fan_;  // triangles of each vertex (CSR)
   std::vector<std::uint32_t> start_;
@@ -780,13 +798,14 @@ class Refitter {
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       const RefitOptions& options, std::span<const Vertex> fixed,
                       std::span<const Vertex> survivor) {
-  detail::refit_to_surface(simplified, original, options, fixed, survivor, {});
+  detail::refit_to_surface(simplified, original, options, fixed, survivor, {}, {});
 }
 
 void detail::refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                               const RefitOptions& options, std::span<const Vertex> fixed,
                               std::span<const Vertex> survivor,
-                              std::span<const double> vertex_area) {
+                              std::span<const double> vertex_area,
+                              std::span<const RefitLine> lines) {
   if (options.iterations <= 0 || simplified.n_faces() == 0) return;
   // Interior samples pay only where the output is dense: with fewer than two original vertices
   // per simplified triangle the vertices alone leave the fit loose (fandisk at 50%: RMS 1.011×
@@ -802,7 +821,7 @@ void detail::refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& origin
   std::optional<Refitter> refitter;
   tbb::parallel_invoke(
       [&] { samples = sample_original(original, per_triangle, vertex_area); },
-      [&] { refitter.emplace(simplified, original, options, fixed, survivor); });
+      [&] { refitter.emplace(simplified, original, options, fixed, survivor, lines); });
   // A pull packs its sample's index with the corner in 32 bits.
   if (samples.size() >= (std::size_t{1} << 30))
     throw InvalidArgument("refit: " + std::to_string(samples.size()) +

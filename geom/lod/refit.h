@@ -56,14 +56,23 @@ void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       std::span<const Vertex> survivor = {});
 
 namespace detail {
+/// A vertex the refit moves along a line only: through its position, along `direction`.
+struct RefitLine {
+  Vertex vertex;
+  Eigen::Vector3d direction;
+};
+
 /// refit_to_surface() with the weights of the original's vertex samples given (simplify()
 /// has them from its setup, which sums every triangle's area anyway; the refit's own sum
 /// walks the whole input again): vertex_area[i] is a third of the area of input vertex i's
 /// triangles (polygons split as the caller split them), 0 for none. Empty, or not sized to
-/// original.vertices_size(): computed from `original`.
+/// original.vertices_size(): computed from `original`. A vertex of `lines` not in `fixed`
+/// moves along its line only (simplify(): each attribute-seam vertex along the input's normal
+/// there, so that it keeps its place on the seam).
 void refit_to_surface(SurfaceMesh& simplified, const SurfaceMesh& original,
                       const RefitOptions& options, std::span<const Vertex> fixed,
-                      std::span<const Vertex> survivor, std::span<const double> vertex_area);
+                      std::span<const Vertex> survivor, std::span<const double> vertex_area,
+                      std::span<const RefitLine> lines);
 }  // namespace detail
 
 }  // namespace geom

@@ -2,6 +2,7 @@
 #include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 
+#include <geom/core/geometry.h>
 #include <geom/core/soup.h>
 
 #include <cmath>
@@ -35,7 +36,8 @@ int refit_rounds(const SimplifyOptions& options, std::size_t input_vertices,
 
 /// Appends the vertices on an attribute seam of `mesh` (corners of one vertex with different
 /// per-corner texture coordinates or normals). The collapses keep seams on their lines; the
-/// refit, which moves positions only, would pull a seam vertex off its cut, so it keeps them.
+/// refit, which moves positions only, would pull a seam vertex off its cut, so it moves them
+/// along their normals only.
 void add_seam_vertices(const SurfaceMesh& mesh, std::vector<Vertex>& out) {
   const auto uv = mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
   const auto normal = mesh.get_property<Halfedge, Normal>(prop::kCornerNormal);
@@ -87,11 +89,16 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
     for (std::size_t i = 0; i < result.vertex_origin.size(); ++i)
       if (locked.contains(result.vertex_origin[i].idx()))
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
-    if (options.attributes.any()) add_seam_vertices(result.mesh, fixed);
+    std::vector<Vertex> seams;
+    if (options.attributes.any()) add_seam_vertices(result.mesh, seams);
+    // A seam vertex sits where an input vertex was (seams only half-collapse): the input's
+    // normal there is the line across the seam's surface, not along it, on a fine mesh.
+    std::vector<detail::RefitLine> lines;
+    for (Vertex v : seams) lines.push_back({v, vertex_normal(mesh, result.vertex_origin[v.idx()])});
     const RefitOptions refit{.iterations = rounds,
                              .min_triangle_quality = options.min_triangle_quality};
     detail::refit_to_surface(result.mesh, mesh, refit, fixed, survivor,
-                             engine.input_vertex_areas(mesh.vertices_size()));
+                             engine.input_vertex_areas(mesh.vertices_size()), lines);
   }
   return result;
 }
