@@ -642,7 +642,8 @@ class Refitter {
 
   // The minimiser of move()'s quadratic (A, g) on the line through the vertex along unit d.
   static Vector3 on_line(const Vector3& d, const Eigen::Matrix3d& A, const Vector3& g) {
-    const double curvature = d.dot(A * d);  // > 0: A is the regularised normal matrix
+    // > 0 with the regulariser; without it a zero gives a non-finite move, which move() drops.
+    const double curvature = d.dot(A * d);
     return -(d.dot(g) / curvature) * d;
   }
 

@@ -34,27 +34,31 @@ int refit_rounds(const SimplifyOptions& options, std::size_t input_vertices,
   return refit_needs_surface_samples(input_vertices, output_faces) ? 0 : 1;
 }
 
-/// Appends the vertices on an attribute seam of `mesh` (corners of one vertex with different
-/// per-corner texture coordinates or normals). The collapses keep seams on their lines; the
-/// refit, which moves positions only, would pull a seam vertex off its cut, so it moves them
-/// along their normals only.
-void add_seam_vertices(const SurfaceMesh& mesh, std::vector<Vertex>& out) {
-  const auto uv = mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
-  const auto normal = mesh.get_property<Halfedge, Normal>(prop::kCornerNormal);
-  if (!uv && !normal) return;
-  for (Vertex v : mesh.vertices()) {
+/// The refit's line for each vertex of `result` on an attribute seam (corners of one vertex
+/// with different per-corner texture coordinates or normals). The collapses keep seams on
+/// their lines; the refit, which moves positions only, would pull a seam vertex off its cut,
+/// so it moves one only along the input's normal at the vertex it came from (seams only
+/// half-collapse, so it sits exactly there): across the surface, not along it.
+std::vector<detail::RefitLine> seam_lines(const SurfaceMesh& result, const SurfaceMesh& input,
+                                          const std::vector<Vertex>& origin) {
+  std::vector<detail::RefitLine> lines;
+  const auto uv = result.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+  const auto normal = result.get_property<Halfedge, Normal>(prop::kCornerNormal);
+  if (!uv && !normal) return lines;
+  for (Vertex v : result.vertices()) {
     Halfedge first;  // v's first corner (a halfedge ending at v, in a face)
-    for (Halfedge o : mesh.outgoing(v)) {
+    for (Halfedge o : result.outgoing(v)) {
       const Halfedge h = SurfaceMesh::opposite(o);
-      if (mesh.is_boundary(h)) continue;
+      if (result.is_boundary(h)) continue;
       if (!first.is_valid()) {
         first = h;
       } else if ((uv && uv[h] != uv[first]) || (normal && normal[h] != normal[first])) {
-        out.push_back(v);
+        lines.push_back({v, vertex_normal(input, origin[v.idx()])});
         break;
       }
     }
   }
+  return lines;
 }
 
 }  // namespace
@@ -89,12 +93,8 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
     for (std::size_t i = 0; i < result.vertex_origin.size(); ++i)
       if (locked.contains(result.vertex_origin[i].idx()))
         fixed.push_back(Vertex(static_cast<std::uint32_t>(i)));
-    std::vector<Vertex> seams;
-    if (options.attributes.any()) add_seam_vertices(result.mesh, seams);
-    // A seam vertex sits where an input vertex was (seams only half-collapse): the input's
-    // normal there is the line across the seam's surface, not along it, on a fine mesh.
     std::vector<detail::RefitLine> lines;
-    for (Vertex v : seams) lines.push_back({v, vertex_normal(mesh, result.vertex_origin[v.idx()])});
+    if (options.attributes.any()) lines = seam_lines(result.mesh, mesh, result.vertex_origin);
     const RefitOptions refit{.iterations = rounds,
                              .min_triangle_quality = options.min_triangle_quality};
     detail::refit_to_surface(result.mesh, mesh, refit, fixed, survivor,
