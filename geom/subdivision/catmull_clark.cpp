@@ -78,8 +78,7 @@ void refine_topology_catmark(const Level& p, Level& c, SurfaceMesh& mesh, const 
 namespace {
 
 template <int W>
-void face_and_edge_points(const Level& p, const Level& c, const double* src, double* dst,
-                          int w, const Context& ctx) {
+void face_points(const Level& p, const double* src, double* dst, int w, const Context& ctx) {
   const int nw = W ? W : w;
   const std::uint32_t F = p.nf;
   for_range(F, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
@@ -92,34 +91,6 @@ void face_and_edge_points(const Level& p, const Level& c, const double* src, dou
         Row<W>::add(out, src + static_cast<std::size_t>(p.to[h]) * nw, weight, w);
         h = p.next[h];
       } while (h != p.fh[f]);
-    }
-  });
-  const bool sharp = p.has_sharpness();
-  const bool child_sharp = c.has_sharpness();
-  for_range(p.ne, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t e = b; e < end; ++e) {
-      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
-      const double* v0 = src + static_cast<std::size_t>(p.to[h1]) * nw;
-      const double* v1 = src + static_cast<std::size_t>(p.to[h0]) * nw;
-      double* out = dst + static_cast<std::size_t>(F + e) * nw;
-      const float s = sharp ? p.esharp[e] : kSmooth;
-      double vw = 0.25, fw = 0.25;
-      if (is_sharp(s)) {
-        const bool child_crease =
-            child_sharp && is_sharp(c.esharp[p.n_corners + h0]) &&
-            is_sharp(c.esharp[p.n_corners + h1]);
-        if (child_crease || p.face[h0] == kNone || p.face[h1] == kNone) {
-          for (int k = 0; k < nw; ++k) out[k] = 0.5 * v0[k] + 0.5 * v1[k];
-          continue;
-        }
-        // The sharpness decays to zero at this level: blend crease and smooth by it.
-        const double pw = s, cw = 1.0 - pw;
-        vw = pw * 0.5 + cw * 0.25;
-        fw = cw * 0.25;
-      }
-      const double* f0 = dst + static_cast<std::size_t>(p.face[h0]) * nw;
-      const double* f1 = dst + static_cast<std::size_t>(p.face[h1]) * nw;
-      for (int k = 0; k < nw; ++k) out[k] = fw * f0[k] + fw * f1[k] + vw * v0[k] + vw * v1[k];
     }
   });
 }
@@ -160,10 +131,15 @@ void fvar(const Level& p, const double* src, double* dst, int w, const Context& 
 
 void interpolate_catmark(const Level& p, const Level& c, const double* src, double* dst,
                          int w, const Context& ctx) {
-  if (w == 3)
-    face_and_edge_points<3>(p, c, src, dst, w, ctx);
-  else
-    face_and_edge_points<0>(p, c, src, dst, w, ctx);
+  // Edge-points average the two ends and the two face-points (written first, rows 0..nf).
+  const auto face_point = [&](std::uint32_t h) { return p.face[h]; };
+  if (w == 3) {
+    face_points<3>(p, src, dst, w, ctx);
+    edge_points<3>(p, c, src, dst, w, p.nf, 0.25, 0.25, dst, face_point, ctx);
+  } else {
+    face_points<0>(p, src, dst, w, ctx);
+    edge_points<0>(p, c, src, dst, w, p.nf, 0.25, 0.25, dst, face_point, ctx);
+  }
   vertex_points(p, c, src, dst, w, p.nf + p.ne, ctx);
 }
 

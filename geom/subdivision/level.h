@@ -226,6 +226,45 @@ struct Row {
   }
 };
 
+/// Edge-point rule shared by both schemes, for parent edges e into dst rows
+/// first_edge_child + e. Smooth: vw·(both ends) + fw·(both wings), where the wing on h's side
+/// of the edge is row wing_row(h) of `wings` (Catmull-Clark: the face-point, already in dst;
+/// Loop: the corner opposite the edge, in src). A boundary edge, or a crease whose two children stay sharp, gives the
+/// midpoint; a crease whose sharpness decays to zero at this level blends the crease rule
+/// and the smooth one by its sharpness s: vw = s/2 + (1 − s)·smooth_vw, fw = (1 − s)·smooth_fw.
+template <int W, class WingRow>
+void edge_points(const Level& p, const Level& c, const double* src, double* dst, int w,
+                 std::uint32_t first_edge_child, double smooth_vw, double smooth_fw,
+                 const double* wings, const WingRow& wing_row, const Context& ctx) {
+  const int nw = W ? W : w;
+  const bool sharp = p.has_sharpness();
+  const bool child_sharp = c.has_sharpness();
+  for_range(p.ne, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
+    for (std::uint32_t e = b; e < end; ++e) {
+      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
+      const double* v0 = src + static_cast<std::size_t>(p.to[h1]) * nw;
+      const double* v1 = src + static_cast<std::size_t>(p.to[h0]) * nw;
+      double* out = dst + (static_cast<std::size_t>(first_edge_child) + e) * nw;
+      const float s = sharp ? p.esharp[e] : kSmooth;
+      double vw = smooth_vw, fw = smooth_fw;
+      if (is_sharp(s)) {
+        const bool child_crease = child_sharp && is_sharp(c.esharp[p.n_corners + h0]) &&
+                                  is_sharp(c.esharp[p.n_corners + h1]);
+        if (child_crease || p.face[h0] == kNone || p.face[h1] == kNone) {
+          for (int k = 0; k < nw; ++k) out[k] = 0.5 * v0[k] + 0.5 * v1[k];
+          continue;
+        }
+        const double pw = s, cw = 1.0 - pw;
+        vw = pw * 0.5 + cw * smooth_vw;
+        fw = cw * smooth_fw;
+      }
+      const double* f0 = wings + static_cast<std::size_t>(wing_row(h0)) * nw;
+      const double* f1 = wings + static_cast<std::size_t>(wing_row(h1)) * nw;
+      for (int k = 0; k < nw; ++k) out[k] = fw * f0[k] + fw * f1[k] + vw * v0[k] + vw * v1[k];
+    }
+  });
+}
+
 /// Child sharpness (edges and vertices) of a level whose topology is refined; empties the
 /// arrays when nothing stays sharp. `first_vertex_child` is where vertex-points start.
 void refine_sharpness(const Level& p, Level& c, std::uint32_t first_vertex_child,

@@ -77,40 +77,6 @@ void refine_topology_loop(const Level& p, Level& c, SurfaceMesh& mesh, const Con
 namespace {
 
 template <int W>
-void edge_points(const Level& p, const Level& c, const double* src, double* dst, int w,
-                 const Context& ctx) {
-  const int nw = W ? W : w;
-  const bool sharp = p.has_sharpness();
-  const bool child_sharp = c.has_sharpness();
-  for_range(p.ne, ctx.parallel, [&](std::uint32_t b, std::uint32_t end) {
-    for (std::uint32_t e = b; e < end; ++e) {
-      const std::uint32_t h0 = 2 * e, h1 = 2 * e + 1;
-      const double* v0 = src + static_cast<std::size_t>(p.to[h1]) * nw;
-      const double* v1 = src + static_cast<std::size_t>(p.to[h0]) * nw;
-      double* out = dst + static_cast<std::size_t>(e) * nw;
-      const float s = sharp ? p.esharp[e] : kSmooth;
-      double vw = 0.375, fw = 0.125;
-      if (is_sharp(s)) {
-        const bool child_crease =
-            child_sharp && is_sharp(c.esharp[p.n_corners + h0]) &&
-            is_sharp(c.esharp[p.n_corners + h1]);
-        if (child_crease || p.face[h0] == kNone || p.face[h1] == kNone) {
-          for (int k = 0; k < nw; ++k) out[k] = 0.5 * v0[k] + 0.5 * v1[k];
-          continue;
-        }
-        const double pw = s, cw = 1.0 - pw;
-        vw = pw * 0.5 + cw * 0.375;
-        fw = cw * 0.125;
-      }
-      // The face weights of Loop's edge mask go to the corner opposite the edge.
-      const double* o0 = src + static_cast<std::size_t>(p.to[p.next[h0]]) * nw;
-      const double* o1 = src + static_cast<std::size_t>(p.to[p.next[h1]]) * nw;
-      for (int k = 0; k < nw; ++k) out[k] = fw * o0[k] + fw * o1[k] + vw * v0[k] + vw * v1[k];
-    }
-  });
-}
-
-template <int W>
 void fvar(const Level& p, const double* src, double* dst, int w, const Context& ctx) {
   const int nw = W ? W : w;
   const std::uint32_t C = p.n_corners;
@@ -138,10 +104,12 @@ void fvar(const Level& p, const double* src, double* dst, int w, const Context& 
 
 void interpolate_loop(const Level& p, const Level& c, const double* src, double* dst, int w,
                       const Context& ctx) {
+  // Loop's edge mask: 3/8 for each end, 1/8 for the corner opposite the edge on each side.
+  const auto opposite = [&](std::uint32_t h) { return p.to[p.next[h]]; };
   if (w == 3)
-    edge_points<3>(p, c, src, dst, w, ctx);
+    edge_points<3>(p, c, src, dst, w, 0, 0.375, 0.125, src, opposite, ctx);
   else
-    edge_points<0>(p, c, src, dst, w, ctx);
+    edge_points<0>(p, c, src, dst, w, 0, 0.375, 0.125, src, opposite, ctx);
   vertex_points(p, c, src, dst, w, p.ne, ctx);
 }
 
