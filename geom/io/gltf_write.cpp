@@ -102,8 +102,11 @@ class Writer {
     return static_cast<int>(gltf["accessors"].size() - 1);
   }
 
-  void add_mesh(const PolygonSoup& soup, const std::string& name) {
+  /// The mesh's index in the document, or -1 when it has no triangles: glTF has no empty
+  /// mesh (a primitive needs a POSITION accessor, and an accessor a count of at least 1).
+  int add_mesh(const PolygonSoup& soup, const std::string& name) {
     Expanded e = expand(soup);
+    if (e.triangles.empty()) return -1;
     json prim = {{"mode", 4}};
     prim["attributes"]["POSITION"] = add_float_accessor<3>(e.positions, "VEC3", true);
     if (!e.normals.empty()) prim["attributes"]["NORMAL"] = add_float_accessor<3>(e.normals, "VEC3", false);
@@ -114,6 +117,12 @@ class Writer {
     json mesh = {{"primitives", json::array({prim})}};
     if (!name.empty()) mesh["name"] = name;
     gltf["meshes"].push_back(mesh);
+    return static_cast<int>(gltf["meshes"].size() - 1);
+  }
+
+  /// The specification's arrays have at least one element when present.
+  void drop_if_empty(const char* key) {
+    if (gltf.contains(key) && gltf[key].empty()) gltf.erase(key);
   }
 };
 
@@ -144,8 +153,9 @@ std::string write_gltf(const GltfDocument& doc, bool binary) {
   w.gltf["bufferViews"] = json::array();
   w.gltf["accessors"] = json::array();
   w.gltf["meshes"] = json::array();
+  std::vector<int> mesh_index(doc.meshes.size());
   for (std::size_t m = 0; m < doc.meshes.size(); ++m)
-    w.add_mesh(doc.meshes[m], m < doc.mesh_names.size() ? doc.mesh_names[m] : "");
+    mesh_index[m] = w.add_mesh(doc.meshes[m], m < doc.mesh_names.size() ? doc.mesh_names[m] : "");
   bool lod = false;
   json nodes = json::array();
   for (std::size_t i = 0; i < doc.nodes.size(); ++i) {
@@ -154,7 +164,7 @@ std::string write_gltf(const GltfDocument& doc, bool binary) {
     if (!n.name.empty()) node["name"] = n.name;
     if (n.mesh >= 0) {
       if (n.mesh >= static_cast<int>(doc.meshes.size())) throw InvalidArgument("glTF node " + std::to_string(i) + " refers to missing mesh " + std::to_string(n.mesh));
-      node["mesh"] = n.mesh;
+      if (mesh_index[n.mesh] >= 0) node["mesh"] = mesh_index[n.mesh];
     }
     if (!n.matrix.isIdentity(0)) {
       std::vector<double> m;
@@ -172,23 +182,28 @@ std::string write_gltf(const GltfDocument& doc, bool binary) {
     nodes.push_back(node);
   }
   w.gltf["nodes"] = nodes;
-  w.gltf["scenes"] = json::array({{{"nodes", doc.roots}}});
+  w.gltf["scenes"] = json::array({doc.roots.empty() ? json::object() : json{{"nodes", doc.roots}}});
   w.gltf["scene"] = 0;
   if (lod) w.gltf["extensionsUsed"] = json::array({"MSFT_lod"});
   while (w.bin.size() % 4) w.bin.push_back('\0');
-  json buffer = {{"byteLength", w.bin.size()}};
-  if (!binary) buffer["uri"] = "data:application/octet-stream;base64," + base64(w.bin);
-  w.gltf["buffers"] = json::array({buffer});
+  if (!w.bin.empty()) {  // a document without triangles has no buffer (nor a GLB BIN chunk)
+    json buffer = {{"byteLength", w.bin.size()}};
+    if (!binary) buffer["uri"] = "data:application/octet-stream;base64," + base64(w.bin);
+    w.gltf["buffers"] = json::array({buffer});
+  }
+  for (const char* key : {"bufferViews", "accessors", "meshes", "nodes"}) w.drop_if_empty(key);
   std::string text = w.gltf.dump();
   if (!binary) return text;
   while (text.size() % 4) text.push_back(' ');
   std::string out;
   append_le32(out, 0x46546C67);
   append_le32(out, 2);
-  append_le32(out, static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + w.bin.size()));
+  const std::size_t bin_chunk = w.bin.empty() ? 0 : 8 + w.bin.size();
+  append_le32(out, static_cast<std::uint32_t>(12 + 8 + text.size() + bin_chunk));
   append_le32(out, static_cast<std::uint32_t>(text.size()));
   append_le32(out, 0x4E4F534A);
   out += text;
+  if (bin_chunk == 0) return out;
   append_le32(out, static_cast<std::uint32_t>(w.bin.size()));
   append_le32(out, 0x004E4942);
   out += w.bin;

@@ -26,6 +26,12 @@ PolygonSoup quad_and_triangle() {
   return s;
 }
 
+std::uint32_t le32(const std::string& s, std::size_t at) {
+  std::uint32_t v;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
 std::string error_of(const std::string& data) {
   try {
     read_gltf(bytes(data), "bad.gltf");
@@ -64,6 +70,39 @@ TEST(Gltf, CornerTexcoordsSplitVerticesAtSeams) {
   EXPECT_EQ(back.n_faces(), 2u);
 }
 
+
+// Found by fuzz_gltf: an empty mesh was written with zero-count accessors and a buffer that
+// the GLB form then left without data, which our own reader (rightly) refused. glTF has no
+// empty mesh, so the writer leaves it out; a point cloud (no faces) goes the same way.
+TEST(Gltf, MeshWithoutTrianglesIsWrittenAsAValidDocumentWithoutMeshes) {
+  PolygonSoup points;
+  points.positions = {{0, 0, 0}, {1, 2, 3}};
+  for (const PolygonSoup& s : {PolygonSoup{}, points}) {
+    for (bool binary : {true, false}) {
+      const std::string data = write_gltf(gltf_from_soup(s), binary);
+      const std::string text = binary ? data.substr(20, le32(data, 12)) : data;
+      const nlohmann::json j = nlohmann::json::parse(text);
+      for (const char* key : {"meshes", "accessors", "bufferViews", "buffers"})
+        EXPECT_FALSE(j.contains(key)) << key;
+      if (binary) {
+        EXPECT_EQ(data.size(), 20 + text.size());  // no BIN chunk
+      }
+      ASSERT_EQ(j["nodes"].size(), 1u);
+      EXPECT_FALSE(j["nodes"][0].contains("mesh"));
+      const PolygonSoup back = flatten(read_gltf(bytes(data), "x"));
+      EXPECT_EQ(back.positions.size(), 0u);
+      EXPECT_EQ(back.n_faces(), 0u);
+    }
+  }
+  // Beside a mesh with triangles, the empty one drops out and node indices stay right.
+  GltfDocument doc = gltf_lod_chain({PolygonSoup{}, quad_and_triangle()});
+  const GltfDocument back = read_gltf(bytes(write_gltf(doc, true)), "x");
+  ASSERT_EQ(back.meshes.size(), 1u);
+  ASSERT_EQ(back.nodes.size(), 2u);
+  EXPECT_LT(back.nodes[0].mesh, 0);
+  EXPECT_EQ(back.nodes[1].mesh, 0);
+  EXPECT_EQ(back.meshes[0].n_faces(), 3u);
+}
 TEST(Gltf, HierarchyIsKeptAndFlattened) {
   GltfDocument d = gltf_from_soup(quad_and_triangle());
   d.nodes[0].mesh = -1;
