@@ -121,14 +121,35 @@ PolygonSoup read_drc(std::span<const std::byte> data, const std::string& name) {
   return soup;
 }
 
+namespace {
+
+// The vertices a Draco file of the soup holds, ascending: all of a point cloud's, else those
+// some face uses.
+std::vector<std::uint32_t> used_vertices(const PolygonSoup& soup) {
+  std::vector<std::uint32_t> kept;
+  std::vector<bool> used(soup.positions.size(), soup.n_faces() == 0);
+  for (std::uint32_t v : soup.face_indices) used[v] = true;
+  for (std::uint32_t v = 0; v < used.size(); ++v)
+    if (used[v]) kept.push_back(v);
+  return kept;
+}
+
+}  // namespace
+
 void write_drc(const PolygonSoup& soup, const WriteOptions& options, std::string& out) {
   if (options.drc_position_bits < 0 || options.drc_position_bits > 30)
     throw InvalidArgument("drc_position_bits must be 0 (lossless) to 30, got " +
                           std::to_string(options.drc_position_bits));
   if (options.drc_level < 0 || options.drc_level > 10)
     throw InvalidArgument("drc_level must be 0 to 10, got " + std::to_string(options.drc_level));
-  const std::size_t nv = soup.positions.size();
-  if (nv > std::numeric_limits<std::uint32_t>::max() / 2) throw InvalidArgument("too many vertices for Draco");
+  if (soup.positions.size() > std::numeric_limits<std::uint32_t>::max() / 2)
+    throw InvalidArgument("too many vertices for Draco");
+  // A mesh keeps only the vertices its faces use, in their order: Draco's Edgebreaker coder
+  // drops the others, and its sequential decoder refuses a mesh with more points than three
+  // per triangle (a lossless file with one isolated vertex beside a triangle did not decode).
+  // A point cloud (no faces) keeps every point.
+  const std::vector<std::uint32_t> kept = used_vertices(soup);
+  const std::size_t nv = kept.size();
   draco::Mesh mesh;
   mesh.set_num_points(static_cast<std::uint32_t>(nv));
   auto add = [&](draco::GeometryAttribute::Type type, int dims, auto value_of) {
@@ -138,7 +159,7 @@ void write_drc(const PolygonSoup& soup, const WriteOptions& options, std::string
     draco::PointAttribute* att = mesh.attribute(id);
     for (std::uint32_t v = 0; v < nv; ++v) {
       float x[3];
-      for (int k = 0; k < dims; ++k) x[k] = static_cast<float>(value_of(v, k));
+      for (int k = 0; k < dims; ++k) x[k] = static_cast<float>(value_of(kept[v], k));
       att->SetAttributeValue(draco::AttributeValueIndex(v), x);
     }
   };
@@ -147,10 +168,13 @@ void write_drc(const PolygonSoup& soup, const WriteOptions& options, std::string
     add(draco::GeometryAttribute::NORMAL, 3, [&](std::uint32_t v, int k) { return soup.vertex_normals[v][k]; });
   if (options.attributes && !soup.vertex_texcoords.empty())
     add(draco::GeometryAttribute::TEX_COORD, 2, [&](std::uint32_t v, int k) { return soup.vertex_texcoords[v][k]; });
+  std::vector<std::uint32_t> index(soup.positions.size(), 0);
+  for (std::uint32_t v = 0; v < nv; ++v) index[kept[v]] = v;
   for (std::size_t f = 0; f < soup.n_faces(); ++f) {
     const auto face = soup.face(f);
     for (std::size_t k = 2; k < face.size(); ++k)
-      mesh.AddFace({draco::PointIndex(face[0]), draco::PointIndex(face[k - 1]), draco::PointIndex(face[k])});
+      mesh.AddFace({draco::PointIndex(index[face[0]]), draco::PointIndex(index[face[k - 1]]),
+                    draco::PointIndex(index[face[k]])});
   }
   draco::Encoder encoder;
   const int speed = 10 - options.drc_level;

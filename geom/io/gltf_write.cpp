@@ -33,18 +33,16 @@ Expanded expand(const PolygonSoup& s) {
   const bool corner_uv = !s.corner_texcoords.empty(), corner_n = !s.corner_normals.empty();
   const bool vn = !corner_n && s.vertex_normals.size() == s.positions.size() && !s.positions.empty();
   const bool vt = !corner_uv && s.vertex_texcoords.size() == s.positions.size() && !s.positions.empty();
+  // Without corner attributes the vertices go out as they are, in their order and with
+  // those no face uses (glTF allows them), so that a round trip keeps vertex numbers.
+  if (!corner_uv && !corner_n) {
+    e.positions = s.positions;
+    if (vn) e.normals = s.vertex_normals;
+    if (vt) e.texcoords = s.vertex_texcoords;
+  }
   std::map<std::tuple<std::uint32_t, double, double, double, double, double>, std::uint32_t> seen;
-  std::vector<std::uint32_t> remap(s.positions.size(), 0xFFFFFFFFu);
   auto vertex_of = [&](std::size_t corner, std::uint32_t v) -> std::uint32_t {
-    if (!corner_uv && !corner_n) {
-      if (remap[v] == 0xFFFFFFFFu) {
-        remap[v] = static_cast<std::uint32_t>(e.positions.size());
-        e.positions.push_back(s.positions[v]);
-        if (vn) e.normals.push_back(s.vertex_normals[v]);
-        if (vt) e.texcoords.push_back(s.vertex_texcoords[v]);
-      }
-      return remap[v];
-    }
+    if (!corner_uv && !corner_n) return v;
     TexCoord uv = corner_uv ? s.corner_texcoords[corner] : TexCoord::Zero();
     Normal n = corner_n ? s.corner_normals[corner] : Normal::Zero();
     auto key = std::make_tuple(v, uv.x(), uv.y(), n.x(), n.y(), n.z());

@@ -37,6 +37,30 @@ TEST(Drc, LosslessRoundTripKeepsOrderAndBits) {
   EXPECT_EQ(r.n_faces(), 4u);
 }
 
+// Draco's sequential decoder refuses more points than three per triangle, so a lossless file
+// of one triangle beside an isolated vertex was written but never read back. The writer
+// keeps the vertices of faces, in order; a point cloud keeps all of its points.
+TEST(Drc, VerticesNoFaceUsesAreLeftOutSoThatTheFileDecodes) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {5, 5, 5}, {1, 0, 0}, {0, 1, 0}};
+  s.add_face({0, 2, 3});
+  for (int bits : {0, 11}) {
+    WriteOptions o;
+    o.drc_position_bits = bits;
+    const PolygonSoup r = read_soup(write_soup(s, FileFormat::kDrc, o), FileFormat::kDrc, "t.drc");
+    ASSERT_EQ(r.positions.size(), 3u) << bits;
+    ASSERT_EQ(r.n_faces(), 1u);
+    if (bits == 0) {
+      EXPECT_EQ(r.positions, (std::vector<Point>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+      EXPECT_EQ(r.face_indices, (std::vector<std::uint32_t>{0, 1, 2}));
+    }
+  }
+  PolygonSoup cloud;
+  cloud.positions = s.positions;
+  EXPECT_EQ(read_soup(write_soup(cloud, FileFormat::kDrc), FileFormat::kDrc, "c.drc").positions,
+            cloud.positions);
+}
+
 TEST(Drc, PolygonsAreFannedAndAttributesCarried) {
   PolygonSoup s;
   s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};

@@ -58,6 +58,20 @@ TEST(Gltf, GlbAndJsonRoundTripTriangulatedWithAttributes) {
   }
 }
 
+// Without corner attributes the vertex list goes out as it is: a round trip keeps vertex
+// numbers (morph targets and draw ranges depend on them) and the vertices no face uses.
+TEST(Gltf, VertexOrderAndUnusedVerticesSurviveARoundTrip) {
+  PolygonSoup s;
+  s.positions = {{9, 9, 9}, {0, 1, 0}, {1, 0, 0}, {0, 0, 0}, {0.5, 0.5, 1}};
+  s.add_face({3, 2, 1});
+  s.add_face({2, 4, 1});
+  for (bool binary : {true, false}) {
+    const PolygonSoup back = flatten(read_gltf(bytes(write_gltf(gltf_from_soup(s), binary)), "x"));
+    EXPECT_EQ(back.positions, s.positions);
+    EXPECT_EQ(back.face_indices, s.face_indices);
+  }
+}
+
 TEST(Gltf, CornerTexcoordsSplitVerticesAtSeams) {
   PolygonSoup s;
   s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};

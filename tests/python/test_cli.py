@@ -157,7 +157,7 @@ def test_info_rejects_malformed_file(run, path):
 @pytest.mark.parametrize("name,extra,faces", [
     ("out.obj", [], 1632), ("out.ply", [], 1632), ("out_ascii.ply", ["--ascii"], 1632),
     ("out.off", [], 1632), ("out.stl", [], 3072), ("out_ascii.stl", ["--ascii"], 3072),
-    ("out.drc", [], None)])
+    ("out.drc", [], None), ("out.glb", [], 3072), ("out.gltf", [], 3072)])
 def test_convert_every_format(run, tmp_path, name, extra, faces):
     out = tmp_path / name
     r = run("convert", SAMPLE, out, *extra)
@@ -167,6 +167,32 @@ def test_convert_every_format(run, tmp_path, name, extra, faces):
     if faces is not None:
         assert j["faces"] == faces
     assert j["genus"] == 1 and j["closed"]
+
+
+@pytest.mark.parametrize("name,unstored", [("out.stl", 1), ("out.drc", 1), ("out.glb", 0),
+                                           ("out.obj", 0), ("out.ply", 0), ("out.off", 0)])
+def test_convert_warns_about_vertices_the_format_cannot_store(run, tmp_path, name, unstored):
+    # STL holds triangles only and a Draco mesh the vertices of its faces; glTF keeps a vertex
+    # no face uses beside triangles.
+    src = tmp_path / "isolated.obj"
+    src.write_text("v 0 0 0\nv 5 5 5\nv 1 0 0\nv 0 1 0\nf 1 3 4\n")
+    r = run("convert", src, tmp_path / name)
+    assert r.returncode == 0, r.stderr
+    if unstored:
+        assert f"{name}: 1 vertex that no face uses is not stored" in one_line(r.stderr)
+    else:
+        assert r.stderr.strip() == ""
+        assert json.loads(run("info", "--json", tmp_path / name).stdout)["vertices"] == 4
+    assert run("convert", "--quiet", src, tmp_path / ("q" + name)).stderr.strip() == ""
+
+
+def test_convert_points_only_to_gltf_warns_that_nothing_is_stored(run, tmp_path):
+    src = tmp_path / "points.obj"
+    src.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n")
+    r = run("convert", src, tmp_path / "points.glb")
+    assert r.returncode == 0, r.stderr
+    assert "3 vertices that no face uses are not stored (glb" in one_line(r.stderr)
+    assert json.loads(run("info", "--json", tmp_path / "points.glb").stdout)["vertices"] == 0
 
 
 def test_convert_ascii_and_binary_differ(run, tmp_path):
