@@ -121,6 +121,9 @@ void add_isosurface_command(CLI::App& app) {
             geo.origin = Eigen::Vector3d(args->origin[0], args->origin[1], args->origin[2]);
           }
           GridDims dims{data.nx, data.ny, data.nz};
+          if (data.nx == 0 || data.ny == 0 || data.nz == 0)
+            throw InvalidArgument(args->input + ": the grid is empty (" + std::to_string(data.nx) +
+                                  "×" + std::to_string(data.ny) + "×" + std::to_string(data.nz) + " samples)");
           grid = data.is_double ? ScalarGrid(dims, std::move(data.doubles), geo)
                                 : ScalarGrid(dims, std::move(data.floats), geo);
           source = args->input;

@@ -99,6 +99,7 @@ void decode_into(GridData& g, const unsigned char* src, const Dtype& d,
   else
     g.floats.resize(n);
   const bool native = !d.big && d.kind == 'f' && (d.size == 4 || d.size == 8);
+  if (n == 0) return;  // a zero in the shape: nothing to copy (and memcpy of no bytes to a null)
   if (identity && native) {
     std::memcpy(g.is_double ? static_cast<void*>(g.doubles.data()) : static_cast<void*>(g.floats.data()), src,
                 n * d.size);
@@ -210,13 +211,13 @@ GridData read_npy(std::span<const std::byte> data, const std::string& name) {
 
   const std::size_t data_start = header_start + header_len;
   const std::size_t available = (data.size() - data_start) / std::size_t(dtype.size);
+  // The product first (an axis of 0 makes it 0 however large the others), then the bytes.
   std::size_t count = 1;
-  for (std::size_t s : shape) {
-    if (s != 0 && count > available / s)
-      throw fail(data_start, "shape " + shape_text + " needs more samples than the " +
-                                 std::to_string(available) + " the file holds");
-    count *= s;
-  }
+  bool overflow = false;
+  for (std::size_t s : shape) overflow |= __builtin_mul_overflow(count, s, &count);
+  if (count != 0 && (overflow || count > available))
+    throw fail(data_start, "shape " + shape_text + " needs more samples than the " +
+                               std::to_string(available) + " the file holds");
   GridData g;
   g.dtype = descr;
   g.nz = shape[0];

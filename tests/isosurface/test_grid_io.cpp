@@ -131,6 +131,20 @@ TEST(GridIo, MalformedNpyThrowsParseError) {
   }
 }
 
+// Found by fuzz_npy: an empty array (a zero in the shape) reached memcpy with a null
+// destination (UBSan). It reads as an empty grid, which the isosurface then refuses by name.
+TEST(GridIo, EmptyArrayReadsAsAnEmptyGridThatMarchingCubesRefuses) {
+  for (const char* descr : {"<f4", "<f8", ">i2"}) {
+    const std::string dict = std::string("{'descr': '") + descr + "', 'fortran_order': False, 'shape': (2, 3, 0), }";
+    GridData g = read_npy(npy(dict, {}));
+    EXPECT_EQ(g.nx, 0u);
+    EXPECT_EQ(g.ny, 3u);
+    EXPECT_EQ(g.nz, 2u);
+    EXPECT_TRUE(g.floats.empty() && g.doubles.empty());
+  }
+  EXPECT_THROW(ScalarGrid({0, 3, 2}, std::vector<float>{}), InvalidArgument);
+}
+
 TEST(GridIo, WriteNpyRoundTripsAndRawReads) {
   auto dir = std::filesystem::temp_directory_path() / "geom_test_grid_io";
   std::filesystem::create_directories(dir);

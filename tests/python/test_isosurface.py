@@ -162,3 +162,12 @@ def test_cli_implicit_torus_and_nan_grid(run, tmp_path):
     np.save(tmp_path / "nan.npy", vol)
     r = run("isosurface", tmp_path / "nan.npy", "-o", tmp_path / "n.ply")
     assert r.returncode == 1 and "NaN" in r.stderr
+
+
+def test_cli_empty_grid_is_refused_by_name(run, tmp_path):
+    # NumPy writes empty arrays; before, a zero in the shape was mistaken for a short file.
+    np.save(tmp_path / "empty.npy", np.zeros((2, 3, 0), dtype="<f4"))
+    r = run("isosurface", tmp_path / "empty.npy", "-o", tmp_path / "e.ply")
+    assert r.returncode == 1
+    assert "empty.npy: the grid is empty (0×3×2 samples)" in r.stderr
+    assert not (tmp_path / "e.ply").exists()
