@@ -260,7 +260,7 @@ Pipeline parse_pipeline(std::string_view text, const std::string& source) {
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // a syntax error, or a number beyond a double's range
     throw InvalidArgument(source + ": not JSON: " + e.what());
   }
   if (!j.is_object() || !j.contains("steps") || !j["steps"].is_array())

@@ -46,6 +46,8 @@ class Reader {
                          reinterpret_cast<const char*>(json_bytes.data()) + json_bytes.size());
     } catch (const json::parse_error& e) {
       throw ParseError(name_, ParseError::Unit::kByte, e.byte, std::string("invalid glTF JSON: ") + e.what());
+    } catch (const json::exception& e) {  // a number beyond a double's range ("1e999")
+      throw ParseError(name_, ParseError::Unit::kNone, 0, std::string("invalid glTF JSON: ") + e.what());
     }
     if (!doc_.is_object()) fail("document", "expected a JSON object");
     check_version();

@@ -248,6 +248,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     j = json::parse(json_text);
   } catch (const json::parse_error& e) {
     throw ParseError(source, ParseError::Unit::kByte, e.byte, std::string("invalid JSON: ") + e.what());
+  } catch (const json::exception& e) {  // a number beyond a double's range ("1e999")
+    throw ParseError(source, ParseError::Unit::kNone, 0, std::string("invalid JSON: ") + e.what());
   }
   Reader r(source);
   r.object(j, "scene");

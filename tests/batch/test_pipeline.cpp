@@ -72,6 +72,7 @@ TEST(Pipeline, ErrorsNameTheStepAndTheOption) {
   EXPECT_EQ(error_of(R"({"steps": ["repair"], "jobs": 2})"), "p.json: unknown key 'jobs'");
   EXPECT_EQ(error_of(R"({"steps": [3]})"), "p.json: step 1: a step is a string or an object");
   EXPECT_NE(error_of("{\"steps\": [").find("p.json: not JSON"), std::string::npos);
+  EXPECT_NE(error_of(R"({"steps": ["repair"], "x": 1e999})").find("p.json: not JSON"), std::string::npos);
   EXPECT_EQ(error_of(R"({"steps": ["simplify --ratio 0.5 --ratio 0.2"]})"),
             "p.json: step 1 (simplify): option --ratio given twice");
 }

@@ -190,6 +190,8 @@ TEST(Gltf, BadFilesGetErrorsNamingTheElement) {
   k["nodes"][0]["children"] = {5};
   EXPECT_NE(error_of(k.dump()).find("nodes[0].children"), std::string::npos);
   EXPECT_NE(error_of("{\"asset\": ").find("invalid glTF JSON"), std::string::npos);
+  // Found by fuzz_gltf: a number beyond a double's range was not a ParseError.
+  EXPECT_NE(error_of("{\"asset\": {\"version\": 1e999}}").find("invalid glTF JSON"), std::string::npos);
 }
 
 TEST(Gltf, IndexBeyondVertexCountIsRejected) {

@@ -52,6 +52,8 @@ TEST(Scene, ParsesHierarchyMaterialsLightsAndCamera) {
 
 TEST(Scene, ErrorsNameTheKey) {
   EXPECT_NE(error_of("{ not json").find("invalid JSON"), std::string::npos);
+  // Found by fuzz_scene: a number beyond a double's range escaped as nlohmann's out_of_range.
+  EXPECT_NE(error_of(R"({"meshes": {}, "image": {"ambient": 1e999}})").find("invalid JSON"), std::string::npos);
   EXPECT_NE(error_of(R"({"meshes": {"a": "missing.obj"}})").find("missing.obj"), std::string::npos);
   std::string e = error_of(R"({"meshes": {"a": "cube.obj"}, "nodes": [{"mesh": "a", "material": "gold"}]})");
   EXPECT_NE(e.find("nodes[0].material"), std::string::npos) << e;
