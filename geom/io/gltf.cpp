@@ -55,7 +55,7 @@ class Reader {
     GltfDocument out;
     for (std::size_t m = 0; m < array("meshes").size(); ++m) {
       out.meshes.push_back(read_mesh(m));
-      out.mesh_names.push_back(array("meshes")[m].value("name", ""));
+      out.mesh_names.push_back(text(array("meshes")[m], "name", "meshes[" + std::to_string(m) + "]"));
     }
     read_nodes(out);
     return out;
@@ -84,7 +84,7 @@ class Reader {
 
   void check_version() {
     if (!doc_.contains("asset") || !doc_["asset"].is_object()) fail("asset", "missing");
-    std::string v = doc_["asset"].value("version", "");
+    std::string v = text(doc_["asset"], "version", "asset");
     if (v.rfind("2.", 0) != 0) fail("asset.version", "'" + v + "' is not glTF 2.x");
     for (const auto& ext : doc_.value("extensionsRequired", json::array()))
       if (ext != "MSFT_lod") fail("extensionsRequired", "extension " + ext.dump() + " is not supported");
@@ -102,6 +102,28 @@ class Reader {
     std::size_t i = obj[key].get<std::size_t>();
     if (i >= limit) fail(where + "." + key, std::to_string(i) + " is out of range (" + std::to_string(limit) + ")");
     return i;
+  }
+
+  // Typed members: json::value() converts whatever is there (a string where a number belongs
+  // threw nlohmann's type_error, and 1e300 as an int was undefined behaviour).
+  int integer(const json& obj, const char* key, int fallback, const std::string& where) const {
+    if (!obj.contains(key)) return fallback;
+    const json& v = obj[key];
+    const bool fits = v.is_number_unsigned() ? v.get<std::uint64_t>() <= 0x7fffffffu
+                                             : v.is_number_integer() && v.get<std::int64_t>() >= -0x7fffffff &&
+                                                   v.get<std::int64_t>() <= 0x7fffffff;
+    if (!fits) fail(where + "." + key, v.dump() + " is not an integer");
+    return static_cast<int>(v.get<std::int64_t>());
+  }
+  std::string text(const json& obj, const char* key, const std::string& where) const {
+    if (!obj.contains(key)) return "";
+    if (!obj[key].is_string()) fail(where + "." + key, "expected a string");
+    return obj[key].get<std::string>();
+  }
+  bool flag(const json& obj, const char* key, const std::string& where) const {
+    if (!obj.contains(key)) return false;
+    if (!obj[key].is_boolean()) fail(where + "." + key, "expected true or false");
+    return obj[key].get<bool>();
   }
 
   std::size_t size(const json& obj, const char* key, std::size_t fallback, const std::string& where) const {
@@ -209,12 +231,13 @@ class Reader {
     const std::string where = "accessors[" + std::to_string(a) + "]";
     const json& acc = array("accessors")[a];
     if (acc.contains("sparse")) fail(where, "sparse accessors are not supported");
-    int ct = acc.value("componentType", 0);
+    int ct = integer(acc, "componentType", 0, where);
     bool type_ok = false;
     for (int t : types) type_ok |= t == ct;
     if (!type_ok) fail(where + ".componentType", std::to_string(ct) + " is not allowed here");
-    int n = components(acc.value("type", ""));
-    if (n != want_n) fail(where + ".type", "'" + acc.value("type", "") + "' (expected " + std::to_string(want_n) + " components)");
+    const std::string type = text(acc, "type", where);
+    int n = components(type);
+    if (n != want_n) fail(where + ".type", "'" + type + "' (expected " + std::to_string(want_n) + " components)");
     count = size(acc, "count", 0, where);
     const std::size_t elem = component_size(ct) * n;
     std::vector<double> out;
@@ -229,7 +252,7 @@ class Reader {
     const std::size_t room = view.bytes.size();
     if (count > 0 && (offset > room || elem > room - offset || (count - 1) > (room - offset - elem) / stride))
       fail(where, std::to_string(count) + " elements do not fit in their buffer view");
-    const bool normalized = acc.value("normalized", false);
+    const bool normalized = flag(acc, "normalized", where);
     out.resize(count * n);
     for (std::size_t i = 0; i < count; ++i)
       for (int c = 0; c < n; ++c) {
@@ -250,7 +273,7 @@ class Reader {
   }
 
   void add_primitive(PolygonSoup& soup, const json& prim, const std::string& where, bool& normals, bool& uvs) const {
-    int mode = prim.value("mode", 4);
+    int mode = integer(prim, "mode", 4, where);
     if (mode < 4 || mode > 6) fail(where + ".mode", std::to_string(mode) + " (points/lines) is not a surface; geom reads triangles, strips and fans");
     if (prim.contains("extensions") && prim["extensions"].contains("KHR_draco_mesh_compression"))
       fail(where, "Draco-compressed primitives are not supported (decompress with draco_decoder first)");
@@ -347,7 +370,7 @@ class Reader {
       const std::string where = "nodes[" + std::to_string(i) + "]";
       const json& n = nodes[i];
       GltfNode node;
-      node.name = n.value("name", "");
+      node.name = text(n, "name", where);
       node.matrix = node_matrix(n, where);
       if (n.contains("mesh")) node.mesh = static_cast<int>(index(n, "mesh", out.meshes.size(), where));
       for (const auto& c : n.value("children", json::array())) {
@@ -386,7 +409,13 @@ class Reader {
 }  // namespace
 
 GltfDocument read_gltf(std::span<const std::byte> data, const std::string& name, const std::filesystem::path& base_dir) {
-  return Reader(name, base_dir).read(data);
+  try {
+    return Reader(name, base_dir).read(data);
+  } catch (const nlohmann::json::exception& e) {
+    // A member of a type the checks above do not look at (they name the element when they
+    // do): still the file's fault, so a ParseError.
+    throw ParseError(name, ParseError::Unit::kNone, 0, std::string("invalid glTF: ") + e.what());
+  }
 }
 
 }  // namespace geom

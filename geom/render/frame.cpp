@@ -45,15 +45,20 @@ std::size_t draw_wireframe(const FlatScene& flat, const Projector& proj, int thi
     if (db < 0) b = b + (a - b) * (db / (db - da));
     Eigen::Vector2d sa = proj.screen(a), sb = proj.screen(b);
     double ia = 1.0 / a.w(), ib = 1.0 / b.w();
-    int steps = static_cast<int>(std::ceil((sb - sa).cwiseAbs().maxCoeff() * 2)) + 1;
-    if (steps > 4 * (frame.width + frame.height)) steps = 4 * (frame.width + frame.height);
+    // Counts and pixel positions stay doubles until they are known to fit an int: a huge
+    // transform puts screen points far outside the frame (or at infinity).
+    const int max_steps = 4 * (frame.width + frame.height);
+    const double length = std::ceil((sb - sa).cwiseAbs().maxCoeff() * 2) + 1;
+    const int steps = length < max_steps ? static_cast<int>(length) : max_steps;
     ++drawn;
     for (int s = 0; s <= steps; ++s) {
       double t = static_cast<double>(s) / steps;
       Eigen::Vector2d p = sa + t * (sb - sa);
       double iw = ia + t * (ib - ia);  // 1/w is affine in screen space
-      int x0 = static_cast<int>(std::floor(p.x() - 0.5 * thickness + 0.5));
-      int y0 = static_cast<int>(std::floor(p.y() - 0.5 * thickness + 0.5));
+      const double fx = std::floor(p.x() - 0.5 * thickness + 0.5);
+      const double fy = std::floor(p.y() - 0.5 * thickness + 0.5);
+      if (!(fx > -thickness && fx < frame.width && fy > -thickness && fy < frame.height)) continue;
+      const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
       for (int y = y0; y < y0 + thickness; ++y)
         for (int x = x0; x < x0 + thickness; ++x) {
           if (x < 0 || y < 0 || x >= frame.width || y >= frame.height) continue;

@@ -190,6 +190,21 @@ TEST(Gltf, BadFilesGetErrorsNamingTheElement) {
   k["nodes"][0]["children"] = {5};
   EXPECT_NE(error_of(k.dump()).find("nodes[0].children"), std::string::npos);
   EXPECT_NE(error_of("{\"asset\": ").find("invalid glTF JSON"), std::string::npos);
+  // Found by fuzz_gltf: 5e97 as an int was undefined behaviour, and a member of the wrong
+  // JSON type threw nlohmann's type_error; both name the member now.
+  k = j;
+  k["accessors"][0]["componentType"] = 5.14e97;
+  EXPECT_NE(error_of(k.dump()).find("accessors[0].componentType: 5.14e+97 is not an integer"), std::string::npos)
+      << error_of(k.dump());
+  k = j;
+  k["accessors"][0]["type"] = 3;
+  EXPECT_NE(error_of(k.dump()).find("accessors[0].type: expected a string"), std::string::npos);
+  k = j;
+  k["meshes"][0]["primitives"][0]["mode"] = "triangles";
+  EXPECT_NE(error_of(k.dump()).find("mode: "), std::string::npos);
+  k = j;
+  k["nodes"][0]["name"] = false;
+  EXPECT_NE(error_of(k.dump()).find("nodes[0].name: expected a string"), std::string::npos);
   // Found by fuzz_gltf: a number beyond a double's range was not a ParseError.
   EXPECT_NE(error_of("{\"asset\": {\"version\": 1e999}}").find("invalid glTF JSON"), std::string::npos);
 }

@@ -11,6 +11,16 @@ namespace {
 
 std::shared_ptr<const SurfaceMesh> resolver(const std::string& path) {
   if (path == "cube.obj") return test::cube();
+  if (path == "tetrahedron.obj") {
+    auto m = std::make_shared<SurfaceMesh>();
+    const Vertex a = m->add_vertex({0, 0, 0}), b = m->add_vertex({1, 0, 0}),
+                 c = m->add_vertex({0, 1, 0}), d = m->add_vertex({0, 0, 1});
+    m->add_triangle(a, c, b);
+    m->add_triangle(a, b, d);
+    m->add_triangle(b, c, d);
+    m->add_triangle(c, a, d);
+    return m;
+  }
   throw Error("cannot open '" + path + "'");
 }
 
@@ -48,6 +58,23 @@ TEST(Scene, ParsesHierarchyMaterialsLightsAndCamera) {
   RenderResult r = render(s);
   EXPECT_EQ(r.image.width(), 64);
   EXPECT_EQ(r.stats.triangles, 24u);
+}
+
+// Found by fuzz_scene: a projective matrix with a huge entry puts screen points near
+// infinity, and the wireframe pass converted their step count and pixel positions to int
+// (undefined behaviour; the sanitizer build aborts on it). The scene must render; the far
+// edges simply leave no ink.
+TEST(Scene, HugeTransformsRenderWithoutOverflow) {
+  const std::string json = R"({
+    "image": {"wireframe": true, "width": 8, "height": 8},
+    "meshes": {"m": "tetrahedron.obj"},
+    "materials": {"mirror": {"reflectance": 1}},
+    "nodes": [{"mesh": "m", "material": "mirror",
+               "matrix": [1, 0, 0, 0, 0, 1, 0, 4.4444444444444445e57, 0, 1, 1, 0, 0, 0, 0, 2]}]
+  })";
+  const RenderResult r = render(parse_scene(json, "scene.json", resolver));
+  EXPECT_EQ(r.image.width(), 8);
+  EXPECT_EQ(r.stats.path, "raytrace");
 }
 
 TEST(Scene, ErrorsNameTheKey) {
