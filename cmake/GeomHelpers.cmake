@@ -23,4 +23,11 @@ function(geom_add_library name)
   target_link_libraries(geom_${name} PUBLIC ${ARG_PUBLIC_DEPS}
                         PRIVATE ${ARG_PRIVATE_DEPS} $<BUILD_INTERFACE:geom_options>)
   set_property(GLOBAL APPEND PROPERTY GEOM_LIBRARIES geom_${name})
+  # Fuzzing build (clang): every library is instrumented for coverage and sanitizers; the
+  # targets in tests/fuzz link with -fsanitize=fuzzer.
+  if(GEOM_BUILD_FUZZERS)
+    target_compile_options(geom_${name} PRIVATE -fsanitize=fuzzer-no-link,address,undefined
+                           -fno-omit-frame-pointer -fno-sanitize-recover=all)
+    target_link_options(geom_${name} INTERFACE -fsanitize=address,undefined)
+  endif()
 endfunction()
