@@ -7,35 +7,21 @@
 #include <geom/core/errors.h>
 #include <geom/render/render.h>
 
+#include "../render/meshes.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 
-namespace {
-
-std::shared_ptr<const geom::SurfaceMesh> tetrahedron() {
-  static const auto mesh = [] {
-    auto m = std::make_shared<geom::SurfaceMesh>();
-    const geom::Vertex a = m->add_vertex({0, 0, 0}), b = m->add_vertex({1, 0, 0}),
-                       c = m->add_vertex({0, 1, 0}), d = m->add_vertex({0, 0, 1});
-    m->add_triangle(a, c, b);
-    m->add_triangle(a, b, d);
-    m->add_triangle(b, c, d);
-    m->add_triangle(c, a, d);
-    return m;
-  }();
-  return mesh;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   geom::Scene scene;
   try {
-    scene = geom::parse_scene(text, "fuzz.json", [](const std::string&) { return tetrahedron(); });
+    // One mesh for every name, made once (the fuzzer calls this millions of times).
+    static const std::shared_ptr<const geom::SurfaceMesh> tetrahedron = geom::test::tetrahedron();
+    scene = geom::parse_scene(text, "fuzz.json", [](const std::string&) { return tetrahedron; });
   } catch (const geom::ParseError&) {
     return 0;
   }

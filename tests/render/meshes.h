@@ -59,4 +59,16 @@ inline std::shared_ptr<SurfaceMesh> cube(double h = 1.0, Point c = Point::Zero()
   return m;
 }
 
+/// The unit corner tetrahedron (0, x, y, z), outward-facing.
+inline std::shared_ptr<SurfaceMesh> tetrahedron() {
+  auto m = std::make_shared<SurfaceMesh>();
+  const Vertex a = m->add_vertex({0, 0, 0}), b = m->add_vertex({1, 0, 0}),
+               c = m->add_vertex({0, 1, 0}), d = m->add_vertex({0, 0, 1});
+  m->add_triangle(a, c, b);
+  m->add_triangle(a, b, d);
+  m->add_triangle(b, c, d);
+  m->add_triangle(c, a, d);
+  return m;
+}
+
 }  // namespace geom::test

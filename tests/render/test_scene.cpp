@@ -11,16 +11,7 @@ namespace {
 
 std::shared_ptr<const SurfaceMesh> resolver(const std::string& path) {
   if (path == "cube.obj") return test::cube();
-  if (path == "tetrahedron.obj") {
-    auto m = std::make_shared<SurfaceMesh>();
-    const Vertex a = m->add_vertex({0, 0, 0}), b = m->add_vertex({1, 0, 0}),
-                 c = m->add_vertex({0, 1, 0}), d = m->add_vertex({0, 0, 1});
-    m->add_triangle(a, c, b);
-    m->add_triangle(a, b, d);
-    m->add_triangle(b, c, d);
-    m->add_triangle(c, a, d);
-    return m;
-  }
+  if (path == "tetrahedron.obj") return test::tetrahedron();
   throw Error("cannot open '" + path + "'");
 }
 
