@@ -88,6 +88,7 @@ inline EdgeGroups group_edges(std::uint32_t n_vertices, std::span<const std::uin
   for (std::uint32_t v = 0; v < n_vertices; ++v) {
     EdgeEntry* first = g.entries.data() + g.start[v];
     EdgeEntry* last = g.entries.data() + g.start[v + 1];
+    if (last - first < 2) continue;  // (and first + 1 below would offset a null pointer)
     if (last - first > 32) {
       std::stable_sort(first, last, [](const EdgeEntry& x, const EdgeEntry& y) { return x.other < y.other; });
       continue;

@@ -47,6 +47,26 @@ void check_both(const PolygonSoup& soup, const Expect& x) {
   check(analyze(built.mesh), x, "mesh");
 }
 
+// Found by fuzz_algorithms: with no edge at all, the edge grouping offset a null pointer
+// (UB, which the sanitizer build aborts on). A point cloud, and a soup whose only faces
+// have collapsed to a point, have vertices and nothing else.
+TEST(Topology, PointsWithoutEdgesHaveOnlyIsolatedVertices) {
+  PolygonSoup points;
+  points.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  PolygonSoup collapsed = points;
+  collapsed.add_face({1, 1, 1});
+  for (const PolygonSoup* s : {&points, &collapsed}) {
+    const TopologyReport r = analyze(*s);
+    EXPECT_EQ(r.vertices, 3u);
+    EXPECT_EQ(r.edges, 0u);
+    EXPECT_EQ(r.boundary_loops, 0u);
+    const BuildResult b = build(*s);
+    EXPECT_TRUE(validate(b.mesh).ok());
+    EXPECT_EQ(b.mesh.n_faces(), 0u);
+    EXPECT_EQ(analyze(b.mesh).edges, 0u);
+  }
+}
+
 TEST(Topology, SingleTriangleHasChiOneAndGenusZero) {
   PolygonSoup s;
   s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
