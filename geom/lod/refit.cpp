@@ -571,11 +571,15 @@ class Refitter {
       bool inside = false;
       for (int k = 0; k < 3; ++k) inside = inside || (hit.beta[k] > 1e-9 && was_visited(tri_[hit.t][k]));
       if (inside) return true;
+      const int before = n;
       for (std::uint32_t v : tri_[hit.t])
         if (!was_visited(v)) {
           if (n == kMaxVisit) return false;
           visited[n++] = v;
         }
+      // Nothing new to scan (barycentrics NaN from coordinates near the double range's end
+      // made no corner count as inside): looping on would never end; the tree decides.
+      if (n == before) return false;
     }
   }
 

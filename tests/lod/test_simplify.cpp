@@ -216,6 +216,25 @@ TEST(Simplify, TinyAndHugeCoordinatesBehaveLikeUnitScale) {
   }
 }
 
+// Found by fuzz_algorithms: coordinates near the end of the double range (1e300 beside
+// unit ones) make the refit's barycentrics NaN, and its walk to a sample's triangle found no
+// new vertex to visit and looped for ever. The walk now hands such a sample to the tree.
+TEST(Simplify, CoordinatesNearTheDoubleRangeEndTerminateAndStayFinite) {
+  // An open fan of three triangles around (0, 0, 2), one corner 1e300 away.
+  SurfaceMesh m;
+  const Vertex a = m.add_vertex({0, 1e300, 0}), b = m.add_vertex({1, 0, 0}),
+               c = m.add_vertex({0, 0, 2}), d = m.add_vertex({0, 0, 0});
+  m.add_triangle(a, c, b);
+  m.add_triangle(b, c, d);
+  m.add_triangle(c, a, d);
+  for (int refit : {-1, 1}) {
+    const SimplifyResult r = simplify(m, {.ratio = 0.04, .refit_iterations = refit});
+    EXPECT_TRUE(validate(r.mesh).ok());
+    EXPECT_GE(r.faces_after, 1u);
+    for (Vertex v : r.mesh.vertices()) EXPECT_TRUE(r.mesh.position(v).allFinite());
+  }
+}
+
 TEST(Simplify, ManyBoundariesStay) {
   // A wavy grid with a 4 × 4 lattice of single-cell holes: 17 boundary loops.
   const SurfaceMesh m = test::grid(
