@@ -222,10 +222,12 @@ class Constrainer {
 
 }  // namespace
 
-ConstrainedDelaunayResult constrained_delaunay_2d(std::span<const Eigen::Vector2d> points,
+ConstrainedDelaunayResult constrained_delaunay_2d(std::span<const Eigen::Vector2d> given,
                                                   std::span<const Segment> segments,
                                                   const DelaunayOptions& options) {
-  check_finite(points);
+  check_finite(given);
+  std::vector<Eigen::Vector2d> scaled;
+  const std::span<const Eigen::Vector2d> points = in_predicate_range(given, scaled);
   const std::size_t n = points.size();
   for (std::size_t i = 0; i < segments.size(); ++i)
     if (segments[i].a >= n || segments[i].b >= n)

@@ -386,9 +386,11 @@ void fill_result(const detail::Triangulation2& tr, DelaunayResult& r) {
 }
 }  // namespace
 
-DelaunayResult delaunay_2d(std::span<const Eigen::Vector2d> points,
+DelaunayResult delaunay_2d(std::span<const Eigen::Vector2d> given,
                            const DelaunayOptions& options) {
-  check_finite(points);
+  check_finite(given);
+  std::vector<Eigen::Vector2d> scaled;
+  const std::span<const Eigen::Vector2d> points = in_predicate_range(given, scaled);
   DelaunayResult r;
   if (points.empty()) {
     r.collinear = true;

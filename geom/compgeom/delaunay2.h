@@ -47,6 +47,8 @@ struct DelaunayResult {
 /// Delaunay triangulation of infinitesimally lifted points: deterministic for a given input.
 /// Pre: none (duplicates, collinear input, 0, 1 or 2 points allowed).
 /// Throws: InvalidArgument when a coordinate is NaN or infinite (names the point index);
+///         also when nonzero coordinates are more than 2^400 apart (in_predicate_range);
+///         any other range is scaled exactly, without changing the result.
 ///         geom::Error only with options.exact = false, when the inexact predicates make the
 ///         point location loop.
 /// Complexity: O(n log n) expected for well-distributed points.

@@ -2,6 +2,7 @@
 // "what accuracy costs" table. Everything is decided by exact predicates.
 
 #include <geom/compgeom/delaunay2.h>
+#include <geom/compgeom/hull2.h>
 
 #include <algorithm>
 #include <string>
@@ -15,9 +16,11 @@ std::string edge_name(std::uint32_t a, std::uint32_t b) {
 }
 }  // namespace
 
-std::string check_delaunay_2d(std::span<const Eigen::Vector2d> points,
+std::string check_delaunay_2d(std::span<const Eigen::Vector2d> given,
                               std::span<const std::array<std::uint32_t, 3>> triangles,
                               std::span<const Segment> constrained) {
+  std::vector<Eigen::Vector2d> scaled;  // as delaunay_2d scales them
+  const std::span<const Eigen::Vector2d> points = in_predicate_range(given, scaled);
   const std::size_t n = points.size();
   // Representatives: the first copy of each repeated point.
   std::vector<std::uint32_t> s(n), rep(n);

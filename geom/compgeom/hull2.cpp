@@ -26,8 +26,53 @@ bool lex_less(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 void check_finite(std::span<const Eigen::Vector2d> points) { check_finite_impl(points); }
 void check_finite(std::span<const Eigen::Vector3d> points) { check_finite_impl(points); }
 
-Hull2Result convex_hull_2d(std::span<const Eigen::Vector2d> points, const Hull2Options& options) {
-  check_finite(points);
+namespace {
+template <class V>
+std::span<const V> in_predicate_range_impl(std::span<const V> points, std::vector<V>& storage) {
+  // The exact predicates' products (incircle: degree 4 in differences as small as 2^-53 of
+  // a coordinate, with error terms 2^-106 below those) must neither overflow nor underflow:
+  // every magnitude at most 2^239, every nonzero one at least 2^-176. A power-of-two scaling
+  // that puts the largest at 2^239 meets both for magnitudes down to 2^-400 of the largest;
+  // beyond that, no double arithmetic decides exactly.
+  constexpr int kTop = 239, kSpan = 400, kBottom = -176;
+  double largest = 0, smallest = std::numeric_limits<double>::infinity();
+  std::size_t at_smallest = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int k = 0; k < V::RowsAtCompileTime; ++k) {
+      const double a = std::abs(points[i][k]);
+      largest = std::max(largest, a);
+      if (a > 0 && a < smallest) smallest = a, at_smallest = i;
+    }
+  if (largest == 0) return points;
+  if (smallest < std::ldexp(largest, -kSpan))
+    throw InvalidArgument("point " + std::to_string(at_smallest) + " has a coordinate of magnitude " +
+                          std::to_string(smallest) + " beside " + std::to_string(largest) +
+                          ": coordinates more than 2^400 apart are beyond what exact predicates "
+                          "in double arithmetic can decide");
+  const int e = std::ilogb(largest);
+  if (e <= kTop && std::ilogb(smallest) >= kBottom) return points;  // the usual case: no copy
+  // By a power of two (exact: no predicate changes), coordinate by coordinate, since the
+  // factor itself may be beyond the double range (2^1226 for a set at 2^-987).
+  storage.assign(points.begin(), points.end());
+  for (V& p : storage)
+    for (int k = 0; k < V::RowsAtCompileTime; ++k) p[k] = std::ldexp(p[k], kTop - e);
+  return storage;
+}
+}  // namespace
+
+std::span<const Eigen::Vector2d> in_predicate_range(std::span<const Eigen::Vector2d> points,
+                                                    std::vector<Eigen::Vector2d>& storage) {
+  return in_predicate_range_impl(points, storage);
+}
+std::span<const Eigen::Vector3d> in_predicate_range(std::span<const Eigen::Vector3d> points,
+                                                    std::vector<Eigen::Vector3d>& storage) {
+  return in_predicate_range_impl(points, storage);
+}
+
+Hull2Result convex_hull_2d(std::span<const Eigen::Vector2d> given, const Hull2Options& options) {
+  check_finite(given);
+  std::vector<Eigen::Vector2d> scaled;
+  const std::span<const Eigen::Vector2d> points = in_predicate_range(given, scaled);
   Hull2Result res;
   const std::size_t n = points.size();
   if (n == 0) {

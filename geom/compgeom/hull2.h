@@ -44,4 +44,16 @@ Hull2Result convex_hull_2d(std::span<const Eigen::Vector2d> points,
 void check_finite(std::span<const Eigen::Vector2d> points);
 void check_finite(std::span<const Eigen::Vector3d> points);
 
+/// The points as the exact predicates can take them: the points themselves, or, when a
+/// coordinate magnitude is above 2^239 or a nonzero one below 2^-176, a copy (in `storage`)
+/// scaled by a power of two that puts the largest at 2^239. Outside that window the products
+/// inside incircle (degree 4) overflow or underflow and its signs are garbage; a power-of-two
+/// scaling is exact, so every predicate keeps its sign and the triangulation its triangles.
+/// Throws: InvalidArgument naming a point when a nonzero coordinate is more than 2^400 times
+/// smaller than the largest (1 beside 1e300): no double arithmetic decides those exactly.
+std::span<const Eigen::Vector2d> in_predicate_range(std::span<const Eigen::Vector2d> points,
+                                                    std::vector<Eigen::Vector2d>& storage);
+std::span<const Eigen::Vector3d> in_predicate_range(std::span<const Eigen::Vector3d> points,
+                                                    std::vector<Eigen::Vector3d>& storage);
+
 }  // namespace geom

@@ -237,8 +237,10 @@ std::vector<std::uint8_t> non_extreme(const double* xyz, std::size_t n,
 
 }  // namespace
 
-Hull3Result convex_hull_3d(std::span<const Eigen::Vector3d> points) {
-  check_finite(points);
+Hull3Result convex_hull_3d(std::span<const Eigen::Vector3d> given) {
+  check_finite(given);
+  std::vector<Eigen::Vector3d> scaled;
+  const std::span<const Eigen::Vector3d> points = in_predicate_range(given, scaled);
   Hull3Result res;
   const std::size_t n = points.size();
   if (n == 0) return res;

@@ -40,6 +40,8 @@ struct Hull3Result {
 /// (a point sees a face only when strictly above its plane).
 /// Pre: none (duplicates, coplanar, collinear and empty input allowed).
 /// Throws: InvalidArgument when a coordinate is NaN or infinite (names the point).
+///         also when nonzero coordinates are more than 2^400 apart (in_predicate_range);
+///         any other range is scaled exactly, without changing the result.
 /// Complexity: O(n log n) expected; O(n h) worst case.
 /// Ref: C. B. Barber, D. P. Dobkin, H. Huhdanpaa, "The Quickhull algorithm for convex
 ///      hulls", ACM TOMS 22(4), 1996.

@@ -52,6 +52,34 @@ TEST(Delaunay2, HugeOffsetAndTinyScale) {
   }
 }
 
+// Found by fuzz_compgeom: with coordinates near 1e300 the products inside the exact
+// predicates overflowed, and delaunay_2d threw "does not conflict with it (inexact
+// predicates)" although its predicates are exact. The points are now scaled by a power of
+// two into range first, which changes no predicate's sign: a cocircular grid scaled by
+// 2^990 or 2^-990 gives the very triangles of the unscaled one. Coordinates too far apart
+// for any double arithmetic (1 beside 1e300) are refused, naming the point.
+TEST(Delaunay2, ExtremeScalesGiveTheUnscaledTrianglesOrAClearError) {
+  auto p = grid(12, 12);
+  std::shuffle(p.begin(), p.end(), std::mt19937(9));
+  for (auto& q : uniform(100, 3, 11)) p.push_back(q);
+  const auto r = geom::delaunay_2d(p);
+  for (int e : {990, -990}) {
+    auto scaled = p;
+    for (auto& q : scaled) q *= std::ldexp(1.0, e);
+    const auto rs = geom::delaunay_2d(scaled);
+    EXPECT_EQ(geom::check_delaunay_2d(scaled, rs.triangles), "") << e;
+    EXPECT_EQ(rs.triangles, r.triangles) << e;
+    EXPECT_EQ(rs.cocircular, r.cocircular) << e;
+  }
+  const std::vector<V2> fuzz = {{1e300, 1e300}, {-1e300, 1}, {30, 0}, {1, 1}};
+  try {
+    geom::delaunay_2d(fuzz);
+    ADD_FAILURE() << "no error";
+  } catch (const geom::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("point 1 has a coordinate of magnitude"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Delaunay2, IntegerGridIsCocircularEverywhere) {
   auto p = grid(60, 60);
   std::shuffle(p.begin(), p.end(), std::mt19937(4));

@@ -63,6 +63,22 @@ TEST(Hull3, CubeLatticeKeepsOnlyTheCorners) {
   EXPECT_DOUBLE_EQ(volume(p, h), 125.0);
 }
 
+// Coordinates near the double range's end (2^990): the hull is that of the unscaled set
+// (the exact predicates see a power-of-two scaling of it; before, their products overflowed).
+TEST(Hull3, CoordinatesNearTheDoubleRangeEndGiveTheUnscaledHull) {
+  std::vector<V3> p;
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) p.push_back({double(x), double(y * y), double(z + x * y)});
+  auto huge = p;
+  for (auto& q : huge) q *= std::ldexp(1.0, 990);
+  const auto h = geom::convex_hull_3d(p), hh = geom::convex_hull_3d(huge);
+  expect_convex_closed(p, h);
+  EXPECT_EQ(hh.dimension, 3);
+  EXPECT_EQ(hh.vertices, h.vertices);
+  EXPECT_EQ(hh.triangles, h.triangles);
+}
+
 TEST(Hull3, SpherePointsAreAllVertices) {
   std::mt19937_64 rng(2);
   std::normal_distribution<double> g;
