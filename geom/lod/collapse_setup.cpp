@@ -32,7 +32,7 @@ std::uint64_t pair_key(Vertex a, Vertex b) {
 
 // The first corner of a polygon whose fan diagonals are neither edges of the mesh nor
 // diagonals of an earlier polygon: such a diagonal (two quads around a valence-2 vertex, say)
-// would give that edge a third and fourth triangle. The first corner when none qualifies.
+// would give that edge a third and fourth triangle. c.size() when none qualifies.
 std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
                      const std::unordered_set<std::uint64_t>& diagonals) {
   const std::size_t k = c.size();
@@ -44,7 +44,7 @@ std::size_t fan_apex(const SurfaceMesh& mesh, const std::vector<Vertex>& c,
     }
     if (clear) return apex;
   }
-  return 0;
+  return k > 3 ? k : 0;
 }
 
 // body(begin, end) over the blocks of [0, n), on all cores. The setup's sweeps write each
@@ -95,6 +95,13 @@ void fan_triangulate(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& 
     for (Vertex v : mesh.vertices(f)) corners.push_back(v);
     const std::size_t apex = fan_apex(mesh, corners, diagonals);
     const std::size_t k = corners.size();
+    // (A fan would give an edge a third face; the result could not be a mesh again. Found by
+    // fuzz_algorithms: a quad whose two diagonals are both edges, after build() split a
+    // non-manifold file.)
+    if (apex == k)
+      throw InvalidArgument("face " + std::to_string(f.idx()) + " (" + std::to_string(k) +
+                            " corners) has no fan whose diagonals are not already edges: every "
+                            "triangulation of it leaves the mesh non-manifold; split it first");
     for (std::size_t i = 2; i + 1 < k; ++i)
       diagonals.insert(pair_key(corners[apex], corners[(apex + i) % k]));
     for (std::size_t i = 1; i + 1 < k; ++i)

@@ -107,8 +107,9 @@ struct SimplifyResult {
 /// attributes too) the collapses run region by region on all cores, in an order close to, but not
 /// the same as, the one-core order; the result is the same on any number of cores.
 /// Throws: InvalidArgument when ratio is not in [0, 1] or max_error is negative or NaN, an
-/// attribute weight is negative or not finite, an enabled attribute is not on the mesh, or
-/// refit_iterations is below -1.
+/// attribute weight is negative or not finite, an enabled attribute is not on the mesh,
+/// refit_iterations is below -1, or a polygon (naming the face) has no fan triangulation
+/// whose diagonals are not already edges (any would make the mesh non-manifold).
 /// Complexity: O(F log F).
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options = {});
 
