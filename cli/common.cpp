@@ -137,23 +137,6 @@ void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& input
   write_output(to_soup(mesh), inputs, common, write, path);
 }
 
-namespace {
-
-// Vertices no face uses: STL stores triangles only, a Draco mesh only the vertices of its
-// faces (a point cloud keeps all), and glTF has no mesh without triangles (beside triangles it
-// keeps them). OBJ, PLY and OFF keep every vertex.
-std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format) {
-  if (format == FileFormat::kGltf || format == FileFormat::kGlb)
-    return soup.n_faces() == 0 ? soup.positions.size() : 0;
-  if (format == FileFormat::kDrc && soup.n_faces() == 0) return 0;
-  if (format != FileFormat::kStl && format != FileFormat::kDrc) return 0;
-  std::vector<bool> used(soup.positions.size(), false);
-  for (std::uint32_t v : soup.face_indices) used[v] = true;
-  return static_cast<std::size_t>(std::count(used.begin(), used.end(), false));
-}
-
-}  // namespace
-
 void write_output(const PolygonSoup& soup, const std::vector<std::string>& inputs,
                   const CommonOptions& common, WriteOptions write, const std::string& path) {
   const std::string out = path.empty() ? common.output : path;

@@ -83,6 +83,11 @@ void write_soup(const PolygonSoup& soup, const std::filesystem::path& path,
 std::vector<std::byte> write_soup(const PolygonSoup& soup, FileFormat format,
                                   const WriteOptions& options = {});
 
+/// How many of the soup's vertices a file of this format leaves out: those no face uses in
+/// STL (triangles only) and in a Draco mesh (a point cloud keeps all), every one in glTF when
+/// there are no faces (glTF has no mesh without triangles). OBJ, PLY and OFF keep every vertex.
+std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format);
+
 struct LoadResult {
   SurfaceMesh mesh;
   BuildReport report;
