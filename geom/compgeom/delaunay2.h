@@ -90,6 +90,8 @@ ConstrainedDelaunayResult constrained_delaunay_2d(std::span<const Eigen::Vector2
 /// 2n - h - 2, every interior edge locally Delaunay under the exact in-circle test
 /// (edges in `constrained` are exempt). Returns an empty string when all hold, else a
 /// description of the first failure.
+/// Throws: InvalidArgument, naming the point, on a non-finite coordinate or on coordinates
+/// more than 2^400 apart (as delaunay_2d does).
 /// Complexity: O(n log n).
 std::string check_delaunay_2d(std::span<const Eigen::Vector2d> points,
                               std::span<const std::array<std::uint32_t, 3>> triangles,

@@ -19,6 +19,7 @@ std::string edge_name(std::uint32_t a, std::uint32_t b) {
 std::string check_delaunay_2d(std::span<const Eigen::Vector2d> given,
                               std::span<const std::array<std::uint32_t, 3>> triangles,
                               std::span<const Segment> constrained) {
+  check_finite(given);  // as delaunay_2d refuses them: NaN would compare as collinear
   std::vector<Eigen::Vector2d> scaled;  // as delaunay_2d scales them
   const std::span<const Eigen::Vector2d> points = in_predicate_range(given, scaled);
   const std::size_t n = points.size();

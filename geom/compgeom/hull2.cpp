@@ -2,6 +2,7 @@
 #include <geom/core/errors.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -9,13 +10,19 @@
 namespace geom {
 
 namespace {
+// Shortest round-trip form: std::to_string prints 1e300 as 301 digits and 1e-300 as 0.000000.
+std::string number(double v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
 template <class V>
 void check_finite_impl(std::span<const V> points) {
   for (std::size_t i = 0; i < points.size(); ++i)
     for (int k = 0; k < V::RowsAtCompileTime; ++k)
       if (!std::isfinite(points[i][k]))
         throw InvalidArgument("point " + std::to_string(i) + " has a non-finite coordinate (" +
-                              std::to_string(points[i][k]) + "); expected finite numbers");
+                              number(points[i][k]) + "); expected finite numbers");
 }
 
 bool lex_less(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -46,7 +53,7 @@ std::span<const V> in_predicate_range_impl(std::span<const V> points, std::vecto
   if (largest == 0) return points;
   if (smallest < std::ldexp(largest, -kSpan))
     throw InvalidArgument("point " + std::to_string(at_smallest) + " has a coordinate of magnitude " +
-                          std::to_string(smallest) + " beside " + std::to_string(largest) +
+                          number(smallest) + " beside " + number(largest) +
                           ": coordinates more than 2^400 apart are beyond what exact predicates "
                           "in double arithmetic can decide");
   const int e = std::ilogb(largest);

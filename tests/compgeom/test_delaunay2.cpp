@@ -195,4 +195,45 @@ TEST(Delaunay2, CheckerRejectsBrokenTriangulations) {
   EXPECT_NE(geom::check_delaunay_2d(q, bad) == "", geom::check_delaunay_2d(q, good) == "");
 }
 
+TEST(Delaunay2, CheckerNeedsTrianglesUnlessThePointsAreCollinear) {
+  std::vector<V2> p;
+  for (int i = 0; i < 256; ++i) p.push_back({i % 16 * 0.25, i / 16 * 0.5 + (i % 3) * 1e-3});
+  const std::vector<std::array<std::uint32_t, 3>> none;
+  EXPECT_NE(geom::check_delaunay_2d(p, none).find("not collinear"), std::string::npos);
+  // One point off a line whose two extremes are repeated.
+  std::vector<V2> line;
+  for (int i = 0; i < 64; ++i) line.push_back({double(i), 2.0 * i});
+  line.push_back({0, 0});
+  line.push_back({63, 126});
+  EXPECT_EQ(geom::check_delaunay_2d(line, none), "");
+  line[10] = {3, 1};
+  EXPECT_NE(geom::check_delaunay_2d(line, none).find("point 10"), std::string::npos);
+  EXPECT_EQ(geom::check_delaunay_2d(std::vector<V2>(50, V2(1, 1)), none), "");
+}
+
+TEST(Delaunay2, CheckerRefusesNonFinitePointsNamingThem) {
+  std::vector<V2> p = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.6}};
+  const auto r = geom::delaunay_2d(p);
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(),
+                     std::numeric_limits<double>::infinity()}) {
+    p[3].y() = bad;
+    try {
+      geom::check_delaunay_2d(p, r.triangles);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const geom::InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("point 3 has a non-finite"), std::string::npos)
+          << e.what();
+    }
+  }
+  // The range refusal prints its magnitudes in shortest form, not 301 digits.
+  std::vector<V2> far = {{0, 0}, {1, 0}, {0, 1e300}};
+  try {
+    geom::check_delaunay_2d(far, r.triangles);
+    ADD_FAILURE();
+  } catch (const geom::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("magnitude 1 beside 1e+300"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
