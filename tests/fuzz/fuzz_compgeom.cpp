@@ -83,4 +83,3 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   unless_refused([&] { check_hull(s.points); });
   return 0;
 }
-
