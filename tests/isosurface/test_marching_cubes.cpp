@@ -15,47 +15,13 @@
 #include <random>
 
 using namespace geom;
+using geom::test::boundary_edges_off_grid_boundary;
 using geom::test::check_surface;
+using geom::test::triangle_set;
 
 namespace {
 
 IsoSurface run(const ScalarGrid& g, MarchingCubesOptions o = {}) { return marching_cubes_arrays(g.view(), o); }
-
-std::size_t boundary_edges_off_grid_boundary(const GridView& g, const IsoSurface& s) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
-  for (const auto& t : s.triangles)
-    for (int k = 0; k < 3; ++k) ++count[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
-  std::size_t bad = 0;
-  for (const auto& [e, c] : count) {
-    if (c != 1) continue;
-    const Point &a = s.positions[e.first], &b = s.positions[e.second];
-    // Both ends on the same outer plane.
-    bool same_plane = false;
-    for (int k = 0; k < 3; ++k) {
-      std::size_t n = k == 0 ? g.dims.nx : k == 1 ? g.dims.ny : g.dims.nz;
-      double lo = g.geometry.origin[k], hi = lo + g.geometry.spacing[k] * double(n - 1);
-      same_plane |= (a[k] == lo && b[k] == lo) || (a[k] == hi && b[k] == hi);
-    }
-    bad += !same_plane;
-  }
-  return bad;
-}
-
-/// Triangles as position triples, each rotated to start at its smallest corner, sorted.
-std::vector<std::array<std::array<double, 3>, 3>> triangle_set(const IsoSurface& s) {
-  std::vector<std::array<std::array<double, 3>, 3>> out;
-  for (const auto& t : s.triangles) {
-    std::array<std::array<double, 3>, 3> tri;
-    for (int k = 0; k < 3; ++k) {
-      const Point& p = s.positions[t[k]];
-      tri[k] = {p.x(), p.y(), p.z()};
-    }
-    while (!(tri[0] <= tri[1] && tri[0] <= tri[2])) std::rotate(tri.begin(), tri.begin() + 1, tri.end());
-    out.push_back(tri);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 void expect_closed(const IsoSurface& s, long chi, const std::string& what) {
   auto c = check_surface(s);
