@@ -4,6 +4,8 @@
 // all come this way; none may crash, hang or break the mesh invariants (validate()), and the
 // codec must give back what it was given (element counts).
 
+#include "fuzz_check.h"
+
 #include <geom/compress/container/codec.h>
 #include <geom/core/build.h>
 #include <geom/core/errors.h>
@@ -14,14 +16,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 
 namespace {
-
-void check(bool ok) {
-  if (!ok) std::abort();
-}
 
 bool all_triangles(const geom::SurfaceMesh& m) {
   for (geom::Face f : m.faces())
@@ -42,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (soup.positions.size() > 400 || soup.n_faces() > 400) return 0;
   const geom::SurfaceMesh mesh = geom::build(soup).mesh;
-  check(geom::validate(mesh).ok());
+  FUZZ_CHECK(geom::validate(mesh).ok());
   if (mesh.n_faces() == 0) return 0;
 
   // The first byte picks the target: 0 … 100% of the triangles.
@@ -52,14 +49,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const geom::InvalidArgument&) {
     return 0;  // documented refusal: a polygon no fan triangulates into a manifold mesh
   }
-  check(geom::validate(s.mesh).ok());
-  check(s.faces_after <= s.faces_before);
-  for (geom::Vertex v : s.mesh.vertices()) check(s.mesh.position(v).allFinite());  // the input's are
+  FUZZ_CHECK(geom::validate(s.mesh).ok());
+  FUZZ_CHECK(s.faces_after <= s.faces_before);
+  for (geom::Vertex v : s.mesh.vertices()) FUZZ_CHECK(s.mesh.position(v).allFinite());  // the input's are
 
   const auto scheme = all_triangles(mesh) && (data[0] & 1) ? geom::SubdivisionScheme::kLoop
                                                           : geom::SubdivisionScheme::kCatmullClark;
   const geom::SubdivideResult d = geom::subdivide(mesh, {.scheme = scheme, .levels = 1});
-  check(geom::validate(d.mesh).ok());
+  FUZZ_CHECK(geom::validate(d.mesh).ok());
 
   geom::CompressResult c;
   try {
@@ -68,6 +65,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;  // documented refusal (e.g. a polygon with no valid fan corner)
   }
   const geom::DecompressResult back = geom::decompress(c.bytes);
-  check(back.mesh.n_vertices() == mesh.n_vertices() && back.mesh.n_faces() == mesh.n_faces());
+  FUZZ_CHECK(back.mesh.n_vertices() == mesh.n_vertices() && back.mesh.n_faces() == mesh.n_faces());
   return 0;
 }

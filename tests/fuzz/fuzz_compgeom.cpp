@@ -5,6 +5,8 @@
 // the 3-D convex hull (every point on or inside every hull face, by the exact orient3d the
 // hull itself uses). Duplicates, collinear, cocircular and huge-coordinate sets come this way.
 
+#include "fuzz_check.h"
+
 #include <geom/compgeom/delaunay2.h>
 #include <geom/compgeom/hull3.h>
 #include <geom/compgeom/voronoi2.h>
@@ -14,16 +16,11 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 #include <string_view>
 #include <vector>
 
 namespace {
-
-void check(bool ok) {
-  if (!ok) std::abort();
-}
 
 // The documented refusals (a non-finite coordinate; coordinates more than 2^400 apart, which
 // no exact double arithmetic decides) end a stage; any other exception is a finding.
@@ -33,7 +30,7 @@ void unless_refused(const Stage& stage) {
     stage();
   } catch (const geom::InvalidArgument& e) {
     const std::string_view what = e.what();
-    check(what.find("2^400 apart") != what.npos || what.find("non-finite") != what.npos);
+    FUZZ_CHECK(what.find("2^400 apart") != what.npos || what.find("non-finite") != what.npos);
   }
 }
 
@@ -46,10 +43,10 @@ void check_voronoi(const std::vector<Eigen::Vector2d>& xy) {
   }
   for (const auto& cell : v.cells)
     for (const auto& p : cell) {
-      check(p.allFinite());
+      FUZZ_CHECK(p.allFinite());
       // Cell vertices are floating point: allow their rounding beyond the box.
       const double tx = 1e-9 * (hi_x - lo_x) + 1e-300, ty = 1e-9 * (hi_y - lo_y) + 1e-300;
-      check(p.x() >= lo_x - tx && p.x() <= hi_x + tx && p.y() >= lo_y - ty && p.y() <= hi_y + ty);
+      FUZZ_CHECK(p.x() >= lo_x - tx && p.x() <= hi_x + tx && p.y() >= lo_y - ty && p.y() <= hi_y + ty);
     }
 }
 
@@ -58,7 +55,7 @@ void check_hull(const std::vector<Eigen::Vector3d>& points) {
   if (h.dimension == 3)
     for (const auto& t : h.triangles)
       for (const auto& p : points)  // no point above an outward face (Shewchuk's sign: < 0)
-        check(geom::orient3d(points[t[0]].data(), points[t[1]].data(), points[t[2]].data(), p.data()) >= 0);
+        FUZZ_CHECK(geom::orient3d(points[t[0]].data(), points[t[1]].data(), points[t[2]].data(), p.data()) >= 0);
 }
 
 }  // namespace
@@ -77,7 +74,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   unless_refused([&] {
     const geom::DelaunayResult d = geom::delaunay_2d(xy);
-    check(geom::check_delaunay_2d(xy, d.triangles).empty());
+    FUZZ_CHECK(geom::check_delaunay_2d(xy, d.triangles).empty());
   });
   unless_refused([&] { check_voronoi(xy); });
   unless_refused([&] { check_hull(s.points); });

@@ -4,11 +4,12 @@
 // preserve the element counts and the split vertices' groups (the codec's round-trip check,
 // after meshoptimizer's habit).
 
+#include "fuzz_check.h"
+
 #include <geom/compress/container/codec.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -32,8 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;  // documented refusal, e.g. a decoded polygon with no valid fan corner
   }
   const auto again = geom::decompress(c.bytes);
-  if (again.mesh.n_vertices() != d.mesh.n_vertices() || again.mesh.n_faces() != d.mesh.n_faces() ||
-      again.vertex_representative != d.vertex_representative)
-    std::abort();
+  FUZZ_CHECK(again.mesh.n_vertices() == d.mesh.n_vertices() && again.mesh.n_faces() == d.mesh.n_faces() &&
+             again.vertex_representative == d.vertex_representative);
   return 0;
 }

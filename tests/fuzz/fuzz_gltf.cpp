@@ -13,16 +13,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!soup) continue;
     const std::vector<std::byte> bytes = write_soup(*soup, FileFormat::kGlb);  // must not throw
     const PolygonSoup r = read_soup(bytes, FileFormat::kGlb, "round-trip");    // must not throw
-    fuzz::check(r.face_offsets == soup->face_offsets && r.face_indices == soup->face_indices);
+    FUZZ_CHECK(r.face_offsets == soup->face_offsets && r.face_indices == soup->face_indices);
     // glTF has no mesh without triangles: a soup of points alone goes out empty.
     if (soup->n_faces() == 0) {
-      fuzz::check(r.positions.empty());
+      FUZZ_CHECK(r.positions.empty());
       continue;
     }
-    fuzz::check(r.positions.size() == soup->positions.size());
+    FUZZ_CHECK(r.positions.size() == soup->positions.size());
     for (std::size_t i = 0; i < r.positions.size(); ++i)
       for (int k = 0; k < 3; ++k)
-        fuzz::check(r.positions[i][k] == static_cast<double>(static_cast<float>(soup->positions[i][k])));
+        FUZZ_CHECK(r.positions[i][k] == static_cast<double>(static_cast<float>(soup->positions[i][k])));
   }
   return 0;
 }

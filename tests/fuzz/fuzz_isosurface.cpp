@@ -12,6 +12,8 @@
 //   triangles;
 // - the SurfaceMesh validates with the arrays' counts.
 
+#include "fuzz_check.h"
+
 #include "../isosurface/surface_check.h"
 
 #include <geom/core/errors.h>
@@ -21,21 +23,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <vector>
 
 namespace {
-
-// A failed check names its line, so a crash report says which rule broke (clang 14 has no
-// std::source_location).
-void check_at(bool ok, int line) {
-  if (ok) return;
-  std::fprintf(stderr, "fuzz_isosurface: the check at line %d failed\n", line);
-  std::abort();
-}
-#define CHECK(ok) check_at((ok), __LINE__)
 
 struct Bytes {
   const std::uint8_t* data;
@@ -78,25 +69,25 @@ double cell_volume(const geom::IsoSurface& s, const geom::GridView& g) {
 void check_arrays(const geom::IsoSurface& s, const geom::GridView& g, double level,
                   geom::NormalDirection toward, bool resolved, bool normals) {
   const geom::test::SurfaceCheck c = geom::test::check_surface(s);
-  CHECK(c.repeated_directed_edges == 0 && c.nonmanifold_vertices == 0);
-  CHECK(c.unused_vertices == 0);
-  CHECK(s.stats.vertices == s.positions.size() && s.stats.triangles == s.triangles.size());
-  CHECK(geom::test::boundary_edges_off_grid_boundary(g, s) == 0);
-  if (s.stats.closed) CHECK(c.boundary_edges == 0);
+  FUZZ_CHECK(c.repeated_directed_edges == 0 && c.nonmanifold_vertices == 0);
+  FUZZ_CHECK(c.unused_vertices == 0);
+  FUZZ_CHECK(s.stats.vertices == s.positions.size() && s.stats.triangles == s.triangles.size());
+  FUZZ_CHECK(geom::test::boundary_edges_off_grid_boundary(g, s) == 0);
+  if (s.stats.closed) FUZZ_CHECK(c.boundary_edges == 0);
   if (s.stats.closed && !s.triangles.empty()) {
     // The outer samples are all on one side; the normals leave the region they enclose.
     const bool outside_above = g.at(0, 0, 0) >= level;
     const bool outward = outside_above == (toward == geom::NormalDirection::kIncreasing);
-    CHECK(outward ? cell_volume(s, g) > 0 : cell_volume(s, g) < 0);
+    FUZZ_CHECK(outward ? cell_volume(s, g) > 0 : cell_volume(s, g) < 0);
   }
-  if (resolved) CHECK(c.degenerate_triangles == 0 && c.coincident_vertices == 0);
+  if (resolved) FUZZ_CHECK(c.degenerate_triangles == 0 && c.coincident_vertices == 0);
   const Eigen::Vector3d lo = g.geometry.origin;
   const Eigen::Vector3d hi = g.position(g.dims.nx - 1, g.dims.ny - 1, g.dims.nz - 1);
   for (const geom::Point& p : s.positions)
-    CHECK(p.allFinite() && (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all());
-  CHECK(s.normals.size() == (normals ? s.positions.size() : 0));
+    FUZZ_CHECK(p.allFinite() && (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all());
+  FUZZ_CHECK(s.normals.size() == (normals ? s.positions.size() : 0));
   for (const geom::Normal& n : s.normals)
-    CHECK(n.allFinite() && (n.squaredNorm() == 0 || std::abs(n.norm() - 1) < 1e-12));
+    FUZZ_CHECK(n.allFinite() && (n.squaredNorm() == 0 || std::abs(n.norm() - 1) < 1e-12));
 }
 
 }  // namespace
@@ -137,16 +128,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     o.parallel = true;
     parallel = geom::marching_cubes_arrays(g, o);
   } catch (const geom::InvalidArgument&) {
-    CHECK(nan);
+    FUZZ_CHECK(nan);
     return 0;
   }
-  CHECK(!nan);
+  FUZZ_CHECK(!nan);
   check_arrays(serial, g, o.level, o.normals_toward, resolved, o.compute_normals);
   // Slabs number their vertices in their own order; the triangles must be the same.
-  CHECK(geom::test::triangle_set(parallel) == geom::test::triangle_set(serial));
+  FUZZ_CHECK(geom::test::triangle_set(parallel) == geom::test::triangle_set(serial));
 
   const geom::MarchingCubesResult r = geom::marching_cubes(g, o);
-  CHECK(geom::validate(r.mesh).ok());
-  CHECK(r.mesh.n_faces() == serial.triangles.size() && r.mesh.n_vertices() == serial.positions.size());
+  FUZZ_CHECK(geom::validate(r.mesh).ok());
+  FUZZ_CHECK(r.mesh.n_faces() == serial.triangles.size() && r.mesh.n_vertices() == serial.positions.size());
   return 0;
 }

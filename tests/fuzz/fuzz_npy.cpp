@@ -2,12 +2,13 @@
 // (never a crash, a huge allocation or a read past the data); a grid that is accepted holds
 // exactly nx·ny·nz samples in the one array its type selects.
 
+#include "fuzz_check.h"
+
 #include <geom/core/errors.h>
 #include <geom/io/grid.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -18,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   const std::size_t n = g.nx * g.ny * g.nz;
-  if ((g.is_double ? g.doubles.size() : g.floats.size()) != n) std::abort();
-  if ((g.is_double ? g.floats.size() : g.doubles.size()) != 0) std::abort();
+  FUZZ_CHECK((g.is_double ? g.doubles.size() : g.floats.size()) == n);
+  FUZZ_CHECK((g.is_double ? g.floats.size() : g.doubles.size()) == 0);
   return 0;
 }

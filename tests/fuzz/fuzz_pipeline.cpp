@@ -2,12 +2,13 @@
 // throw InvalidArgument naming the source, and a pipeline that parses must come back the same
 // from its canonical JSON (to_json, then parse_pipeline again).
 
+#include "fuzz_check.h"
+
 #include <geom/batch/pipeline.h>
 #include <geom/core/errors.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <string_view>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -19,6 +20,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string canonical = p.to_json();
   const geom::batch::Pipeline again = geom::batch::parse_pipeline(canonical, "canonical");  // must not throw
-  if (again.to_json() != canonical || again.steps.size() != p.steps.size()) std::abort();
+  FUZZ_CHECK(again.to_json() == canonical && again.steps.size() == p.steps.size());
   return 0;
 }

@@ -2,12 +2,13 @@
 // content sniffs as one): malformed input may only end in ParseError, and an accepted set
 // has finite points of the dimension it reports (2D: z = 0).
 
+#include "fuzz_check.h"
+
 #include <geom/core/errors.h>
 #include <geom/io/points.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <span>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -17,8 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const geom::ParseError&) {
     return 0;
   }
-  if (s.dimension != 2 && s.dimension != 3) std::abort();
+  FUZZ_CHECK(s.dimension == 2 || s.dimension == 3);
   for (const auto& p : s.points)
-    if (!p.allFinite() || (s.dimension == 2 && p.z() != 0)) std::abort();
+    FUZZ_CHECK(p.allFinite() && (s.dimension == 3 || p.z() == 0));
   return 0;
 }
