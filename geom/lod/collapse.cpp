@@ -116,7 +116,7 @@ void CollapseEngine::set_costs(Candidate* c, std::size_t n) const {
   if (i < n) c[i].cost = priority(c[i].a, c[i].b, place(c[i].a, c[i].b).cost);
 }
 
-void CollapseEngine::push_vertex_edges(Worker& wk, std::uint32_t v) {
+void CollapseEngine::push_vertex_edges(Worker& wk, std::uint32_t v, bool reuse) {
   const std::uint32_t token = ++wk.token;
   vd_[v].mark = token;
   // Gather first and prefetch the neighbours' quadrics: their cache misses then overlap
@@ -138,8 +138,40 @@ void CollapseEngine::push_vertex_edges(Worker& wk, std::uint32_t v) {
   const bool v_locked = vd_[v].locked;
   for (std::uint32_t w : wk.neighbours)
     if (!(v_locked && vd_[w].locked)) wk.pending.push_back({0.0f, v, w, stamp_[v] + stamp_[w]});
-  set_costs(wk.pending.data(), wk.pending.size());
+  if (!reuse || attributes_) {
+    set_costs(wk.pending.data(), wk.pending.size());
+  } else {
+    set_costs_reusing(wk);
+  }
   for (const Candidate& c : wk.pending) push(wk, c);
+}
+
+// set_costs() on w.pending, taking the costs of edges whose ends did not change since w last
+// costed them here from w.costs, and keeping the others there. (Attribute placements read the
+// wedges around an edge, which change without its ends' stamps: not for them.)
+void CollapseEngine::set_costs_reusing(Worker& wk) const {
+  if (wk.costs.empty()) wk.costs.resize(std::size_t{1} << kCostCacheBits);
+  auto slot = [&](const Candidate& c) -> Worker::CachedCost& {
+    return wk.costs[(c.a * 0x9e3779b1u ^ c.b * 0x85ebca77u) >> (32 - kCostCacheBits)];
+  };
+  wk.uncosted.clear();
+  wk.uncosted_at.clear();
+  for (std::uint32_t i = 0; i < wk.pending.size(); ++i) {
+    Candidate& c = wk.pending[i];
+    const Worker::CachedCost& e = slot(c);
+    if (e.a == c.a && e.b == c.b && e.stamps == c.stamps) {
+      c.cost = e.cost;  // place() reads the two ends' records alone
+    } else {
+      wk.uncosted.push_back(c);
+      wk.uncosted_at.push_back(i);
+    }
+  }
+  set_costs(wk.uncosted.data(), wk.uncosted.size());
+  for (std::size_t k = 0; k < wk.uncosted.size(); ++k) {
+    const Candidate& c = wk.uncosted[k];
+    wk.pending[wk.uncosted_at[k]].cost = c.cost;
+    slot(c) = {c.a, c.b, c.stamps, c.cost};
+  }
 }
 
 void CollapseEngine::push(Worker& w, const Candidate& c) {
@@ -608,7 +640,7 @@ CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limit
       vd_[w].retry = 0;
       // A seam vertex's edges reach other parts: the seam queues them after the step.
       if (wk.in_step && region_[w] != wk.part) wk.staged_retry.push_back(w);
-      else push_vertex_edges(wk, w);
+      else push_vertex_edges(wk, w, true);
     }
     if (!wk.in_step && options_.progress && wk.collapses >= next_report) {
       next_report = wk.collapses + 4096;

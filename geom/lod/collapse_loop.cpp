@@ -265,7 +265,7 @@ SimplifyStop CollapseEngine::run_parallel(std::size_t target) {
       w.staged.clear();
     }
     for (std::size_t k = 0; k < parts_; ++k) {
-      for (std::uint32_t v : workers_[k].staged_retry) push_vertex_edges(seam, v);
+      for (std::uint32_t v : workers_[k].staged_retry) push_vertex_edges(seam, v, true);
       workers_[k].staged_retry.clear();
     }
     if (room) {
