@@ -15,6 +15,9 @@
 #include <geom/core/huge_pages.h>
 #include <geom/core/soup.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <string>
 
@@ -292,9 +295,15 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
 
   SurfaceMesh& mesh = result.mesh;
   mesh.reserve(nv, polys.vertex.size() / 2 + nf + 3, nf);
-  std::vector<Point> positions(nv);
-  for (std::size_t i = 0; i < nv; ++i) positions[vertex_slot[i]] = h.quantiser.dequantise(core.q[i]);
-  for (const Point& p : positions) mesh.add_vertex(p);
+  // vertex_slot is a permutation (checked above), so every vertex is written once, and in
+  // place: a copy and nv add_vertex calls took a tenth of a 557k-vertex decode.
+  mesh.resize(nv, 0, 0);
+  auto points = mesh.positions();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 16384),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i)
+                        points[Vertex(vertex_slot[i])] = h.quantiser.dequantise(core.q[i]);
+                    });
   if (h.flags & kFlagNormals) {
     auto p = mesh.add_property<Vertex, Normal>(prop::kVertexNormal);
     for (std::size_t i = 0; i < nv; ++i)
