@@ -296,7 +296,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
   SurfaceMesh& mesh = result.mesh;
   mesh.reserve(nv, polys.vertex.size() / 2 + nf + 3, nf);
   // vertex_slot is a permutation (checked above), so every vertex is written once, and in
-  // place: a copy and nv add_vertex calls took a tenth of a 557k-vertex decode.
+  // place: a copy and nv add_vertex calls took 24 ms of a 340 ms decode (557k vertices).
   mesh.resize(nv, 0, 0);
   auto points = mesh.positions();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 16384),
