@@ -175,7 +175,7 @@ void CollapseEngine::set_costs_reusing(Worker& wk) const {
 }
 
 void CollapseEngine::push(Worker& w, const Candidate& c) {
-  if (parts_ == 0) {
+  if (parts_ == 0 || merged_) {
     w.queue.push(c);
     return;
   }
@@ -581,12 +581,11 @@ CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limit
   std::size_t removed = 0, next_report = wk.collapses + 4096;
   const std::size_t spare = limits.exact ? 1 : 0;
   while (removed + spare < limits.faces) {
-    RadixQueue* queue = limits.all_queues ? cheapest_queue() : &wk.queue;
-    const Candidate* top = queue ? queue->top() : nullptr;
+    const Candidate* top = wk.queue.top();
     if (!top) return Drain::kEmpty;
     if (RadixQueue::key(top->cost) > limits.key) return Drain::kLimit;
     const Candidate c = *top;
-    queue->drop_top();
+    wk.queue.drop_top();
     if (wk.in_step) {
       // An end became seam since the entry was queued: it is the seam's now.
       if (region_[c.a] != wk.part || region_[c.b] != wk.part) {
@@ -599,7 +598,7 @@ CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limit
         return Drain::kRoom;
       }
     }
-    if (!limits.all_queues && vd_.size() > kPrefetchMinVertices) prefetch_upcoming(wk);
+    if (vd_.size() > kPrefetchMinVertices) prefetch_upcoming(wk);
     const Placement pl = place(c.a, c.b);
     // Remove the vertex whose position is not kept; a locked vertex is always the survivor.
     std::uint32_t u = c.a, v = c.b;
@@ -624,7 +623,7 @@ CollapseEngine::Drain CollapseEngine::drain(Worker& wk, const DrainLimits& limit
     removed += static_cast<std::size_t>(dead);
     if (!wk.in_step) {
       alive_triangles_ -= static_cast<std::size_t>(dead);
-      if (parts_ > 0) extend_seam(v);
+      if (parts_ > 0 && !merged_) extend_seam(v);
     }
     // Re-evaluated now, while the neighbourhood is in cache, rather than when the old
     // entries reach the top.

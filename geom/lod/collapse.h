@@ -148,6 +148,9 @@ class CollapseEngine {
     /// Start from the entries of these blocks, in order (queue empty), placed in chunks of
     /// one slab sized for them all.
     void assign(const std::vector<EdgeBlock>& blocks);
+    /// Move the current entries out (those taken ahead first, then bucket by bucket) and
+    /// leave the queue empty, its memory freed.
+    EdgeBlock release();
     /// Remove a current entry of the smallest cost into out; false when none is left.
     bool pop(Candidate& out) {
       const Candidate* c = top();
@@ -289,7 +292,6 @@ class CollapseEngine {
     std::uint32_t key;  // collapse entries up to this queue key
     std::size_t faces;  // remove at most about this many triangles
     bool exact;         // never more than faces (else the last collapse may pass it by one)
-    bool all_queues;    // take the cheapest entry of all workers' queues
   };
 
   Placement place(std::uint32_t a, std::uint32_t b) const;
@@ -378,7 +380,8 @@ class CollapseEngine {
   /// After a collapse outside the parallel steps, survivor v and any neighbour of another
   /// part become seam, so that no part reaches another's vertices.
   void extend_seam(std::uint32_t v);
-  RadixQueue* cheapest_queue();
+  /// Move every queue's entries into the seam's, which the tail then drains alone.
+  void merge_queues();
   /// The fraction of run()'s work done, for options.progress.
   double progress() const;
   std::size_t run_start_ = 0, run_target_ = 0;  // triangles when run() began, its target
@@ -423,6 +426,7 @@ class CollapseEngine {
 
   std::vector<Worker> workers_;
   std::size_t parts_ = 0;  // 0: one worker, serial
+  bool merged_ = false;     // parts_ > 0, and the tail's one queue (the seam's) holds all
   // Per vertex: its part (fixed), and its part or kSeam (seam only grows).
   std::vector<std::uint8_t> label_, region_;
 

@@ -66,6 +66,25 @@ void CollapseEngine::RadixQueue::assign(const std::vector<EdgeBlock>& blocks) {
       append(buckets_[bucket(key(b.edges[i].cost))], b.edges[i]);
 }
 
+CollapseEngine::EdgeBlock CollapseEngine::RadixQueue::release() {
+  EdgeBlock out;
+  out.edges.reset(new Candidate[n_ahead_ + size_]);
+  auto keep = [&](const Candidate& c) {
+    if (current(c)) out.edges[out.size++] = c;
+  };
+  for (std::size_t k = 0; k < n_ahead_; ++k) keep(ahead(k));
+  for (const Bucket& b : buckets_)
+    for (std::size_t k = 0; k < b.chunks.size(); ++k) {
+      const Candidate* chunk = b.chunks[k];
+      const Candidate* stop = k + 1 < b.chunks.size() ? chunk + kChunk : b.end;
+      for (const Candidate* c = chunk; c != stop; ++c) keep(*c);
+    }
+  const std::uint32_t* stamps = stamps_;
+  *this = RadixQueue();
+  watch(stamps);
+  return out;
+}
+
 void CollapseEngine::RadixQueue::settle() {
   while (buckets_[0].empty() && size_ > 0) {
     int i = 1;
