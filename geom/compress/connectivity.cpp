@@ -226,7 +226,9 @@ class CornerWriter {
 
  private:
   static constexpr std::size_t kStep = 1024;  // 12 KiB per array: the step stays in L1
-  void extend() {
+  // Kept out of add(): inlined, its resizes made add() too large to inline in turn, and the
+  // call per triangle cost more than the add itself.
+  [[gnu::noinline]] void extend() {
     end_ = std::min(end_ + 3 * kStep, max_);
     out_.vertex.resize(end_);  // within the reserved capacity: no copy
     out_.opposite.resize(end_, kNone);
