@@ -102,12 +102,12 @@ void RansDecoder::finish() const {
   if (next_ != end_ || x_ != kLow || y_ != kLow) fail("rANS stream does not end where the encoder finished");
 }
 
-void RansDecoder::fail(const char* what) const {
-  throw DecodeError(offset(), std::string(what) + " at byte " + std::to_string(offset()));
+void RansDecoder::fail_at(std::uint64_t offset, const char* what) {
+  throw DecodeError(offset, std::string(what) + " at byte " + std::to_string(offset));
 }
 
-void BitReader::fail() const {
-  throw DecodeError(base_ + pos_, "raw bit stream ends early at byte " + std::to_string(base_ + pos_));
+void BitReader::fail_at(std::uint64_t offset) {
+  throw DecodeError(offset, "raw bit stream ends early at byte " + std::to_string(offset));
 }
 
 void GammaModel::encode(RansEncoder& rans, BitWriter& raw, std::uint32_t value) {

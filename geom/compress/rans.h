@@ -263,13 +263,21 @@ class RansDecoder {
 
   template <class Model>  // AdaptiveModel, SmallModel or TinyModel
   unsigned decode(Model& model) {
+    return decode_on<0>(model);
+  }
+  /// Lanes in use: 1 or 2 (see the constructor).
+  unsigned lanes() const { return two_lanes_ ? 2 : 1; }
+  /// decode() with the lane count known at compile time (kLanes = lanes(); 0: read it per
+  /// symbol), for a caller that tests it once for many symbols.
+  template <unsigned kLanes, class Model>
+  unsigned decode_on(Model& model) {
     const std::uint32_t x = x_, slot = x & (kProbScale - 1);
     const unsigned s = model.find(slot);
     const std::uint32_t freq = model.freq(s), start = model.start(s);
     // The model's update first: its stores could alias the states, which then stay in
     // registers through the renormalisation.
     model.update(s);
-    next_state(renormalised(freq * (x >> kProbBits) + slot - start));
+    next_state<kLanes>(renormalised(freq * (x >> kProbBits) + slot - start));
     return s;
   }
   std::uint32_t decode_flat(unsigned bits);
@@ -295,7 +303,7 @@ class RansDecoder {
       return static_cast<std::uint32_t>((wide << (8 * n)) >> 32);
     }
     while (x < kLow) {
-      if (next_ >= end_) fail("rANS stream ends early");
+      if (next_ >= end_) fail_at(offset(), "rANS stream ends early");
       x = (x << 8) | *next_++;
     }
     return x;
@@ -304,8 +312,9 @@ class RansDecoder {
   // decode waits for its own lane's state only, not for the renormalisation of the symbol
   // before it, so consecutive symbols overlap (decode CPU 5-8% lower on the 1M mesh). The
   // branch goes the same way for a whole stream.
+  template <unsigned kLanes = 0>
   void next_state(std::uint32_t x) {
-    if (two_lanes_) {
+    if (kLanes == 2 || (kLanes == 0 && two_lanes_)) {
       x_ = y_;
       y_ = x;
     } else {
@@ -318,7 +327,10 @@ class RansDecoder {
     if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap32(v);
     return v;
   }
-  [[noreturn]] void fail(const char* what) const;
+  [[noreturn]] void fail(const char* what) const { fail_at(offset(), what); }
+  // Static, so that a decoder copied into a local (see ResidualReader::read) keeps its
+  // address to itself and its members in registers.
+  [[noreturn]] static void fail_at(std::uint64_t offset, const char* what);
 
   const std::uint8_t* data_;  // the stream's first byte (offsets are counted from it)
   const std::uint8_t* next_;  // the next unread byte
@@ -384,12 +396,12 @@ class BitReader {
       return;
     }
     while (fill_ < bits) {
-      if (pos_ >= size_) fail();
+      if (pos_ >= size_) fail_at(base_ + pos_);
       acc_ |= static_cast<std::uint64_t>(data_[pos_++]) << fill_;
       fill_ += 8;
     }
   }
-  [[noreturn]] void fail() const;
+  [[noreturn]] static void fail_at(std::uint64_t offset);  // static: see RansDecoder::fail_at
   const std::uint8_t* data_;
   std::size_t size_;
   std::size_t pos_ = 0;

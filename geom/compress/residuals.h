@@ -96,35 +96,8 @@ class ResidualReader {
   std::uint32_t top() const { return top_; }
   /// Writes the decoded grid point to out; returns the largest residual length.
   unsigned read(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
-    // context()'s terms that do not depend on the axis, hoisted.
-    AdaptiveModel* const length = m_.length.data() + (count > 2 ? 2 : count) * kLengthClasses;
-    TinyModel* const top = m_.top.data();
-    std::uint32_t point[3];  // stored to out at the end: out may alias the models' counts
-    unsigned longest = 0, prev = prev_len_;
-#pragma GCC unroll 3
-    for (unsigned x = 0; x < 3; ++x) {
-      const unsigned blend = x == 0 ? activity : (prev + activity + 1) / 2;
-      const unsigned pl = blend >= kLengthClasses ? kLengthClasses - 1 : blend;
-      // The length models have at most 33 symbols, so len ≤ 32.
-      const unsigned len = rans_.decode(length[x * 3 * kLengthClasses + pl]);
-      // z = the leading one, the modelled bits below it, then rb raw bits; lengths 0 and 1
-      // are the values 0 and 1 (their certain symbol decodes as 0). No branch on len.
-      const std::uint32_t high = rans_.decode(top[x * 33 + len]);
-      const unsigned rb = len > 3 ? len - 3 : 0;  // modelled_bits(len) = 2 from length 3
-      const std::uint32_t lead = len > 2 ? 4 : len;
-      const std::uint32_t z = ((lead | high) << rb) | raw_.get(rb);
-      // Zigzag: even z are z / 2, odd z are −(z + 1) / 2. A point below 0 wraps above top_.
-      const std::int64_t r = std::int64_t{z >> 1} ^ -std::int64_t{z & 1u};
-      const auto v = static_cast<std::uint64_t>(std::int64_t{p[x]} + r);
-      if (v > top_)
-        fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
-      point[x] = static_cast<std::uint32_t>(v);
-      prev = len;
-      longest = std::max(longest, len);
-    }
-    prev_len_ = prev;
-    for (unsigned x = 0; x < 3; ++x) out[x] = point[x];
-    return longest;
+    return rans_.lanes() == 2 ? read_on<2>(p, count, activity, out)
+                              : read_on<1>(p, count, activity, out);
   }
   /// kMultiParallelogramSelect: the subset mask (1 … 2^m − 1) of m candidates.
   template <class Predict>
@@ -138,6 +111,48 @@ class ResidualReader {
   }
 
  private:
+  template <unsigned kLanes>
+  unsigned read_on(const QPoint& p, unsigned count, unsigned activity, std::uint32_t* out) {
+    // context()'s terms that do not depend on the axis, hoisted.
+    AdaptiveModel* const length = m_.length.data() + (count > 2 ? 2 : count) * kLengthClasses;
+    TinyModel* const top = m_.top.data();
+    std::uint32_t point[3];  // stored to out at the end: out may alias the models' counts
+    // The coders as locals, stored back at the end: through the references their states
+    // were stored and reloaded around every decode, since the models' count stores might
+    // alias them (4% of a read's instructions, with the lane count fixed per read).
+    RansDecoder rans = rans_;
+    BitReader raw = raw_;
+    const std::uint32_t grid_top = top_;
+    unsigned longest = 0, prev = prev_len_;
+#pragma GCC unroll 3
+    for (unsigned x = 0; x < 3; ++x) {
+      const unsigned blend = x == 0 ? activity : (prev + activity + 1) / 2;
+      const unsigned pl = blend >= kLengthClasses ? kLengthClasses - 1 : blend;
+      // The length models have at most 33 symbols, so len ≤ 32.
+      const unsigned len = rans.template decode_on<kLanes>(length[x * 3 * kLengthClasses + pl]);
+      // z = the leading one, the modelled bits below it, then rb raw bits; lengths 0 and 1
+      // are the values 0 and 1 (their certain symbol decodes as 0). No branch on len.
+      const std::uint32_t high = rans.template decode_on<kLanes>(top[x * 33 + len]);
+      const unsigned rb = len > 3 ? len - 3 : 0;  // modelled_bits(len) = 2 from length 3
+      const std::uint32_t lead = len > 2 ? 4 : len;
+      const std::uint32_t z = ((lead | high) << rb) | raw.get(rb);
+      // Zigzag: even z are z / 2, odd z are −(z + 1) / 2. A point below 0 wraps above top_.
+      const std::int64_t r = std::int64_t{z >> 1} ^ -std::int64_t{z & 1u};
+      const auto v = static_cast<std::uint64_t>(std::int64_t{p[x]} + r);
+      if (v > grid_top) {
+        rans_ = rans;  // for the offset in the message
+        fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
+      }
+      point[x] = static_cast<std::uint32_t>(v);
+      prev = len;
+      longest = std::max(longest, len);
+    }
+    prev_len_ = prev;
+    rans_ = rans;
+    raw_ = raw;
+    for (unsigned x = 0; x < 3; ++x) out[x] = point[x];
+    return longest;
+  }
   [[noreturn]] void fail(const char* what) const {
     throw DecodeError(rans_.offset(),
                       std::string(what) + " near byte " + std::to_string(rans_.offset()));
