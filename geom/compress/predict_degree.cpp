@@ -35,7 +35,7 @@ struct Wedge {
 /// residual length is kept by place and its wedges' extent apart: the records are read at
 /// random, and 8 bytes instead of 24 keep three times as many in cache, while q in traversal
 /// order is mostly read near its recent end. The records hold only what the traversal
-/// writes, never what the coding does (see rlen1 in degree_pass_as).
+/// writes, never what the coding does (see act1 in degree_pass_as).
 struct Slot {
   std::uint32_t order;
   std::uint8_t degree;
@@ -95,11 +95,13 @@ template <class Coder>
 /// on entry for the writer) receives the grid points in the new order.
 /// kSelect: predictor 5's subset choice. The per-vertex loop is compiled once per predictor
 /// family and side (the decoder never records a plan), which keeps its state in registers.
+/// Out of line: inlined into decode_positions_degree, the pass ran 1.1% more instructions
+/// (GCC 12, the shuffled 1M-triangle benchmark mesh).
 template <bool kSelect, class Coder>
-std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& reader,
-                                          std::vector<QPoint>& q, Blend blend, BlendProbe* probe,
-                                          bool anchored, DegreePlan* plan, Scratch& scratch,
-                                          std::vector<std::uint32_t>* open_corners) {
+[[gnu::noinline]] std::vector<std::uint32_t> degree_pass_as(
+    CornerTable& t, std::size_t n, Coder& reader, std::vector<QPoint>& q, Blend blend,
+    BlendProbe* probe, bool anchored, DegreePlan* plan, Scratch& scratch,
+    std::vector<std::uint32_t>* open_corners) {
   constexpr bool kWriter = requires { reader.truth(0u); };
   if constexpr (!kWriter) plan = nullptr;
   constexpr bool select = kSelect;
@@ -218,13 +220,18 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     std::uint32_t a, b, c;
   };
   std::vector<Tri> tri(16);
-  // Residual lengths by place + 1 (kNone + 1 wraps to 0, an entry that stays 0), kept out of
-  // the slots: a length is stored only when its vertex's residuals are decoded, and the next
-  // vertex's scan loads the same slots (v is usually its neighbour), so with the length in
-  // the record the traversal waited for the rANS chain; apart, the two overlap.
+  // Residual lengths by place + 1, each packed with a count as (length << 8) | 1 (kNone + 1
+  // wraps to 0, an entry that stays 0: an untaken end adds nothing), kept out of the slots:
+  // a length is stored only when its vertex's residuals are decoded, and the next vertex's
+  // scan loads the same slots (v is usually its neighbour), so with the length in the record
+  // the traversal waited for the rANS chain; apart, the two overlap. One sum over a vertex's
+  // wedge ends gives both the lengths' total (bits 8 up) and the taken ends (bits 0–7) in
+  // one register, of which the scan is short; a vertex of kPackedWedges wedges or more (two
+  // ends each) would carry into the total, so its ends are summed apart.
   // Not cleared: a place's entry is written when its vertex is coded, before any read of it.
-  std::unique_ptr<std::uint8_t[]> rlen1(new std::uint8_t[std::size_t{nc} + 1]);
-  rlen1[0] = 0;
+  constexpr std::size_t kPackedWedges = 128;
+  std::unique_ptr<std::uint16_t[]> act1(new std::uint16_t[std::size_t{nc} + 1]);
+  act1[0] = 0;
   unsigned last_rlen = 0;
   for (std::uint32_t i = 0; i < nc; ++i) {
     const std::uint32_t v = pick();
@@ -239,24 +246,39 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     if (n_wedges > tri.size()) [[unlikely]] tri.resize(n_wedges);
     Tri* const tri_out = tri.data();
     unsigned count = 0, act_sum = 0, act_n = 0;
-    for (const Wedge* we = w_begin; we != w_end; ++we) {
-      const Slot& sa = slot[we->a];
-      const Slot& sb = slot[we->b];
-      const bool da = sa.order != kNone, db = sb.order != kNone;
-      if (plan) {
-        if (da) plan->act.push_back(sa.order);
-        if (db) plan->act.push_back(sb.order);
+    auto scan = [&](auto packed) {
+      unsigned act = 0;
+      Tri* next = tri_out;  // the next parallelogram's record (a pointer frees a register)
+      for (const Wedge* we = w_begin; we != w_end; ++we) {
+        const Slot& sa = slot[we->a];
+        const Slot& sb = slot[we->b];
+        const bool da = sa.order != kNone, db = sb.order != kNone;
+        if (plan) {
+          if (da) plan->act.push_back(sa.order);
+          if (db) plan->act.push_back(sb.order);
+        }
+        const unsigned ea = act1[sa.order + 1], eb = act1[sb.order + 1];
+        if constexpr (decltype(packed)::value) {
+          act += ea + eb;
+        } else {
+          act_sum += (ea >> 8) + (eb >> 8);
+          act_n += (ea & 0xffu) + (eb & 0xffu);
+        }
+        // Taking v raises a wedge's untaken end when the other end is taken. a and b are not
+        // v, so raising here, before v is taken, pushes the same vertices in the same order.
+        bump(da ? we->b : we->a, da != db);
+        // A complete parallelogram: a, b and the opposite vertex c taken.
+        const std::uint32_t oc = slot[we->c].order;
+        *next = {sa.order, sb.order, oc};
+        next += da && db && oc != kNone;
       }
-      act_sum += unsigned{rlen1[sa.order + 1]} + rlen1[sb.order + 1];
-      act_n += unsigned{da} + unsigned{db};
-      // Taking v raises a wedge's untaken end when the other end is taken. a and b are not v,
-      // so raising here, before v is taken, pushes the same vertices in the same order.
-      bump(da ? we->b : we->a, da != db);
-      // A complete parallelogram: a, b and the opposite vertex c taken.
-      const std::uint32_t oc = slot[we->c].order;
-      tri_out[count] = {sa.order, sb.order, oc};
-      count += unsigned{da && db && oc != kNone};
-    }
+      count = static_cast<unsigned>(next - tri_out);
+      if constexpr (decltype(packed)::value) act_sum = act >> 8, act_n = act & 0xffu;
+    };
+    if (n_wedges < kPackedWedges) [[likely]]
+      scan(std::true_type{});
+    else
+      scan(std::false_type{});
     std::int64_t sum[3] = {0, 0, 0}, ends[3] = {0, 0, 0};
     std::int64_t cand[kMaxSelect][3], cand_ends[kMaxSelect][3];  // select: the first ones
     for (unsigned k = 0; k < count; ++k) {
@@ -308,7 +330,7 @@ std::vector<std::uint32_t> degree_pass_as(CornerTable& t, std::size_t n, Coder& 
     slot[v].order = i;
     seq[i] = v;
     last_rlen = code(reader, v, p, count, activity, q[i].data());  // in traversal order
-    rlen1[i + 1] = static_cast<std::uint8_t>(last_rlen);
+    act1[i + 1] = static_cast<std::uint16_t>(last_rlen << 8 | 1);
   }
   {
     // Renumber through the slots' places.

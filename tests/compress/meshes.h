@@ -93,6 +93,34 @@ inline Arrays torus(int nu, int nv, double R = 3.0, double r = 1.0) {
   return a;
 }
 
+/// A spindle of `rings` rings of n vertices (radii wobbling), capped by an apex of valence n
+/// at the top and, when closed, at the bottom too (else the last ring is a boundary loop):
+/// vertices of hundreds of triangles, rare in scans but legal.
+inline Arrays spindle(int n, int rings, bool closed) {
+  Arrays a;
+  const double pi = std::acos(-1.0);
+  for (int k = 0; k < rings; ++k)
+    for (int i = 0; i < n; ++i) {
+      const double u = 2 * pi * i / n, r = 1.0 + 0.1 * std::sin(7.0 * u + k) + 0.3 * k;
+      a.points.push_back({r * std::cos(u), r * std::sin(u), -0.5 * k});
+    }
+  auto id = [&](int k, int i) { return static_cast<std::uint32_t>(k * n + (i % n)); };
+  const auto top = static_cast<std::uint32_t>(a.points.size());
+  a.points.push_back({0.0, 0.0, 1.0});
+  for (int i = 0; i < n; ++i) a.faces.push_back({top, id(0, i), id(0, i + 1)});
+  for (int k = 0; k + 1 < rings; ++k)
+    for (int i = 0; i < n; ++i) {
+      a.faces.push_back({id(k, i), id(k + 1, i), id(k + 1, i + 1)});
+      a.faces.push_back({id(k, i), id(k + 1, i + 1), id(k, i + 1)});
+    }
+  if (closed) {
+    const auto bottom = static_cast<std::uint32_t>(a.points.size());
+    a.points.push_back({0.0, 0.0, -0.5 * rings});
+    for (int i = 0; i < n; ++i) a.faces.push_back({bottom, id(rings - 1, i + 1), id(rings - 1, i)});
+  }
+  return a;
+}
+
 /// The boundary of a (2k+1)×(2k+1)×1 voxel slab with a hole at every (odd, odd) column:
 /// a closed quad mesh of genus k². Optionally triangulated.
 inline Arrays holey_slab(int k, bool triangles) {

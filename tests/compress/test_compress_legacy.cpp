@@ -6,10 +6,15 @@
 // at level 9 (growth-order predictor 7) and with a per-vertex colour (an ascii PLY with red,
 // green and blue: a generic attribute in the extension block). A misread lane count
 // fails the sections' end check (every state back at 2^23, every byte consumed).
+// spindle_closed.gmc and spindle_open.gmc were written by the encoder of commit 41c5cd8 from
+// test::spindle(300, 4, closed) at the default level (predictor 5): apexes of 300 wedges,
+// whose residual contexts the degree pass sums apart from a smaller vertex's.
 
 #include <geom/compress/container/codec.h>
 #include <geom/core/errors.h>
 #include <geom/io/io.h>
+
+#include "meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -103,6 +108,26 @@ TEST(CompressLegacy, CurrentStreamsHaveTwoLanesAndDecodeTheSame) {
   std::vector<std::uint8_t> flipped = now;
   flipped[5] &= static_cast<std::uint8_t>(~32);
   EXPECT_THROW(decompress(flipped), DecodeError);
+}
+
+TEST(CompressLegacy, HighValenceVerticesCodeAsBefore) {
+  for (const bool closed : {true, false}) {
+    const SurfaceMesh input = test::spindle(300, 4, closed).build();
+    const std::vector<std::uint8_t> before =
+        fixture(closed ? "spindle_closed.gmc" : "spindle_open.gmc");
+    ASSERT_EQ(before[6], 5) << closed;  // the degree pass with coded subsets
+    // The same bytes today, so the same contexts on both sides; and the old stream decodes.
+    const CompressResult now = compress(input, {});
+    EXPECT_EQ(now.bytes, before) << closed;
+    const DecompressResult d = decompress(before);
+    ASSERT_EQ(d.mesh.n_vertices(), input.n_vertices());
+    ASSERT_EQ(d.mesh.n_faces(), input.n_faces());
+    std::size_t i = 0;
+    for (Vertex v : d.mesh.vertices()) {
+      const Point& p = input.position(Vertex(now.vertex_permutation[i++]));
+      ASSERT_LE((d.mesh.position(v) - p).cwiseAbs().maxCoeff(), now.stats.max_error * (1 + 1e-9));
+    }
+  }
 }
 
 }  // namespace
