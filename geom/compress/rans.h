@@ -265,6 +265,13 @@ class RansDecoder {
   unsigned decode(Model& model) {
     return decode_on<0>(model);
   }
+  /// Continues from where `copy`, a copy of this decoder, stopped (a caller decodes a run of
+  /// symbols through a local copy, whose states the compiler can keep in registers).
+  void resume(const RansDecoder& copy) {
+    next_ = copy.next_;
+    x_ = copy.x_;
+    y_ = copy.y_;
+  }
   /// Lanes in use: 1 or 2 (see the constructor).
   unsigned lanes() const { return two_lanes_ ? 2 : 1; }
   /// decode() with the lane count known at compile time (kLanes = lanes(); 0: read it per
@@ -372,6 +379,12 @@ class BitReader {
  public:
   BitReader(std::span<const std::uint8_t> bytes, std::uint64_t base)
       : data_(bytes.data()), size_(bytes.size()), base_(base) {}
+  /// Continues from where `copy`, a copy of this reader, stopped (see RansDecoder::resume).
+  void resume(const BitReader& copy) {
+    pos_ = copy.pos_;
+    acc_ = copy.acc_;
+    fill_ = copy.fill_;
+  }
   /// Throws: DecodeError when the stream has fewer than `bits` bits left.
   /// No test for bits = 0, which reads nothing as it is: the residual reader asks for 0 or
   /// more bits without a branch on which.

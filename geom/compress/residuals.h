@@ -140,7 +140,7 @@ class ResidualReader {
       const std::int64_t r = std::int64_t{z >> 1} ^ -std::int64_t{z & 1u};
       const auto v = static_cast<std::uint64_t>(std::int64_t{p[x]} + r);
       if (v > grid_top) {
-        rans_ = rans;  // for the offset in the message
+        rans_.resume(rans);  // for the offset in the message
         fail(("decoded position off the " + std::to_string(bits_) + "-bit grid").c_str());
       }
       point[x] = static_cast<std::uint32_t>(v);
@@ -148,8 +148,8 @@ class ResidualReader {
       longest = std::max(longest, len);
     }
     prev_len_ = prev;
-    rans_ = rans;
-    raw_ = raw;
+    rans_.resume(rans);
+    raw_.resume(raw);
     for (unsigned x = 0; x < 3; ++x) out[x] = point[x];
     return longest;
   }
