@@ -334,6 +334,7 @@ template <bool kSelect, class Coder>
   }
   {
     // Renumber through the slots' places.
+#pragma GCC unroll 4
     for (std::uint32_t& v : t.vertex) v = slot[v].order;
   }
   code_isolated(reader, q, nc, anchored, last_rlen, seq);

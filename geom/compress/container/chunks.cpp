@@ -692,9 +692,14 @@ void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, Fla
     const Core& c = d.cores[k];
     const std::vector<std::uint32_t>& g = d.global[k];
     std::uint32_t* tri = out.triangles.data() + corner_at[k];
+#pragma GCC unroll 4  // a load, a load and a store a corner: the loop's own steps count
     for (const std::uint32_t v : c.table.vertex) *tri++ = g[v];
+    // Copies, which the compiler keeps in registers: the originals were reloaded per vertex.
+    const Quantiser on = grid;
+    float* const positions = out.positions.data();
+    const std::uint32_t first = d.first[k];
     for (std::size_t v = 0; v < c.q.size(); ++v)
-      if (g[v] >= d.first[k]) grid.dequantise_into(c.q[v], out.positions.data() + 3 * std::size_t{g[v]});
+      if (g[v] >= first) on.dequantise_into(c.q[v], positions + 3 * std::size_t{g[v]});
   });
 }
 
