@@ -116,6 +116,7 @@ template <bool kSelect, class Coder>
   // Vertex v's wedges are wedge[end[v], end[v + 1]).
   geom::detail::UninitialisedVector<std::uint32_t> end = std::move(t.corners_of);
   t.corners_of.clear();
+  std::uint32_t max_wedges = 0;  // the most wedges a vertex has
   {
     // Each vertex's corner count (counted by the connectivity decoder while it grew the
     // table, else here) becomes its wedge list's start and, in place, its fill cursor: the
@@ -133,12 +134,14 @@ template <bool kSelect, class Coder>
         for (std::uint32_t v : t.vertex) ++cursor[v];
       }
       std::uint32_t run = 0, last = 0;  // last: the previous vertex's start
+      max_wedges = 0;
       for (std::uint32_t v = 0; v < nc; ++v) {
         slot[v] = Slot{kNone, 0};
         const std::uint32_t count = cursor[v];
         cursor[v] = last;
         last = run;
         run += count;
+        max_wedges = std::max(max_wedges, count);
       }
       cursor.push_back(last);
       if (run == n_corners || recount) break;
@@ -165,18 +168,16 @@ template <bool kSelect, class Coder>
   }
   // Stacks of vertices by degree, bucket[d][0, top[d]), stale entries skipped when popped.
   // A bump that raises nothing stores to its degree's top without counting it, so each
-  // stack keeps a spare entry; degree 0 (never pushed to) is that entry alone.
+  // stack keeps a spare entry; degree 0 (never pushed to) is that entry alone. A push takes
+  // a wedge, each wedge is scanned once, so a corner per entry (and the spare) never
+  // overflows: no room check per vertex. Pages are touched only as the stacks use them.
   std::unique_ptr<std::uint32_t[]> stacks[kTop + 1];
   std::uint32_t* bucket[kTop + 1] = {};
-  std::size_t top[kTop + 1] = {}, room[kTop + 1] = {};
-  auto widen = [&](unsigned d, std::size_t want) {
-    std::unique_ptr<std::uint32_t[]> wider(new std::uint32_t[want]);  // pages touched as used
-    std::copy_n(bucket[d], top[d], wider.get());
-    stacks[d] = std::move(wider);
+  std::size_t top[kTop + 1] = {};
+  for (unsigned d = 0; d <= kTop; ++d) {
+    stacks[d].reset(new std::uint32_t[d == 0 ? 1 : n_corners + 1]);
     bucket[d] = stacks[d].get();
-    room[d] = want;
-  };
-  for (unsigned d = 0; d <= kTop; ++d) widen(d, d == 0 ? 1 : std::size_t{nc} + 1);
+  }
   std::vector<std::uint32_t> seq(nc);
   std::uint32_t seed = 0;
   // Raises x (and pushes it) if `raise`, else stores back what it loaded: no branch on
@@ -219,7 +220,7 @@ template <bool kSelect, class Coder>
   struct Tri {
     std::uint32_t a, b, c;
   };
-  std::vector<Tri> tri(16);
+  std::vector<Tri> tri(std::max<std::size_t>(max_wedges, 1));  // a parallelogram per wedge
   // Residual lengths by place + 1, each packed with a count as (length << 8) | 1 (kNone + 1
   // wraps to 0, an entry that stays 0: an untaken end adds nothing), kept out of the slots:
   // a length is stored only when its vertex's residuals are decoded, and the next vertex's
@@ -237,13 +238,9 @@ template <bool kSelect, class Coder>
     const std::uint32_t v = pick();
     // Predict from the vertices already taken (exactly decode_positions' rule on the
     // renumbered table: "earlier" = taken, "largest-numbered" = taken last).
-    const Wedge* w_begin = wedge + end[v];
-    const Wedge* w_end = wedge + end[v + 1];
-    // Room for a push per wedge (and the spare entry), and a parallelogram per wedge.
-    const auto n_wedges = static_cast<std::size_t>(w_end - w_begin);
-    for (unsigned d = 1; d <= kTop; ++d)
-      if (room[d] - top[d] <= n_wedges) [[unlikely]] widen(d, 2 * room[d] + n_wedges);
-    if (n_wedges > tri.size()) [[unlikely]] tri.resize(n_wedges);
+    const std::uint32_t first_wedge = end[v], n_wedges = end[v + 1] - first_wedge;
+    const Wedge* w_begin = wedge + first_wedge;
+    const Wedge* w_end = w_begin + n_wedges;
     Tri* const tri_out = tri.data();
     unsigned count = 0, act_sum = 0, act_n = 0;
     auto scan = [&](auto packed) {
