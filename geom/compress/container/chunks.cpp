@@ -629,7 +629,8 @@ struct DecodedChunks {
   std::uint64_t where = 0;  // chunk 0's offset, for errors about the merged mesh
 };
 
-DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) {
+/// flat: the caller reads no opposites (see Workspace::spare_opposite).
+DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws, bool flat) {
   const ChunkedLayout l = read_layout(bytes);
   DecodedChunks d(ws.cores);
   d.cores.resize(l.chunks.size());
@@ -637,9 +638,12 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) 
   std::vector<std::exception_ptr> failed(d.cores.size());
   tbb::parallel_for(std::size_t{0}, d.cores.size(), [&](std::size_t k) {
     try {
-      decode_chunk(bytes, l.chunks[k], k, d.cores[k], ws.scratch.local());
-      const Core& c = d.cores[k];
+      Core& c = d.cores[k];
+      std::vector<std::uint32_t>* spare = flat ? &ws.spare_opposite.local() : nullptr;
+      if (spare) std::swap(c.table.opposite, *spare);
+      decode_chunk(bytes, l.chunks[k], k, c, ws.scratch.local());
       ranked[k] = ranked_boundary(open_edges(c.table, c.open_corners_known ? &c.open_corners : nullptr), c.q).ranked;
+      if (spare) std::swap(c.table.opposite, *spare);
     } catch (...) {
       failed[k] = std::current_exception();
     }
@@ -657,13 +661,16 @@ DecodedChunks decode_chunks(std::span<const std::uint8_t> bytes, Workspace& ws) 
 
 Core decode_chunked(std::span<const std::uint8_t> bytes) {
   Workspace ws;
-  DecodedChunks d = decode_chunks(bytes, ws);
+  DecodedChunks d = decode_chunks(bytes, ws, false);
   return merge(d.cores, d.global, d.total, d.where);
 }
 
 void decode_chunked_flat(std::span<const std::uint8_t> bytes, Workspace& ws, FlatDecode& out) {
-  DecodedChunks d = decode_chunks(bytes, ws);
-  if (ws.one_shot) ws.scratch.clear();
+  DecodedChunks d = decode_chunks(bytes, ws, true);
+  if (ws.one_shot) {
+    ws.scratch.clear();
+    ws.spare_opposite.clear();
+  }
   const std::size_t n = d.cores.size();
   std::vector<std::size_t> corner_at(n + 1, 0);
   for (std::size_t k = 0; k < n; ++k) corner_at[k + 1] = corner_at[k] + d.cores[k].table.vertex.size();

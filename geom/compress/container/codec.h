@@ -202,9 +202,9 @@ struct Workspace;
 /// into the caller's FlatDecode, reusing its capacity. Memory the kernel hands out fresh
 /// must be cleared page by page; for the 1M-triangle benchmark mesh that is about a tenth of
 /// a decode's time when every call allocates anew. The price is the memory held between
-/// calls (RSS with and without the decoder, after malloc_trim): 44 bytes per triangle of the
+/// calls (RSS with and without the decoder, after malloc_trim): 35 bytes per triangle of the
 /// largest stream decoded so far when it is chunked (the 1M-triangle benchmark stream, 8
-/// chunks; 61 with 4), 76 when it is one stream.
+/// chunks), 74 when it is one stream.
 class FlatDecoder {
  public:
   FlatDecoder();

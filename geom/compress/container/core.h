@@ -59,6 +59,11 @@ void decode_core_into(std::span<const std::uint8_t> bytes, Core& core, Scratch& 
 struct Workspace {
   std::vector<Core> cores;
   tbb::enumerable_thread_specific<Scratch> scratch;
+  /// Per thread, the opposite table of the chunk it decoded last, for the flat decode: its
+  /// output needs no opposites (the seams are never zipped), so once a chunk's boundary is
+  /// ranked its table's opposites are dead and the thread's next chunk writes them into the
+  /// same pages: two arrays' worth of fresh pages instead of one per chunk.
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> spare_opposite;
   /// A single decode (decompress_flat): the scratch blocks are freed as soon as the chunks
   /// are decoded, so that the output arrays get their pages from the allocator rather than
   /// fresh ones (held to the end, they made a one-shot decode of the 1M-triangle stream 8%
