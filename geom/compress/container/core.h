@@ -62,7 +62,7 @@ struct Workspace {
   /// Per thread, the opposite table of the chunk it decoded last, for the flat decode: its
   /// output needs no opposites (the seams are never zipped), so once a chunk's boundary is
   /// ranked its table's opposites are dead and the thread's next chunk writes them into the
-  /// same pages: two arrays' worth of fresh pages instead of one per chunk.
+  /// same pages: one array of fresh pages per thread instead of one per chunk.
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> spare_opposite;
   /// A single decode (decompress_flat): the scratch blocks are freed as soon as the chunks
   /// are decoded, so that the output arrays get their pages from the allocator rather than
