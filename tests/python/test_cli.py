@@ -152,6 +152,34 @@ def test_info_rejects_malformed_file(run, path):
     assert path.name in one_line(r.stderr)
 
 
+# A 240-byte Draco 2.0 point cloud (found by fuzz_compgeom) whose header declares 16.8M
+# points: libdraco allocates 3.7 GB for them before it reads the data. Kept out of the corpus,
+# which is read without a memory limit.
+DRC_CLAIMS_16M_POINTS = (
+    "RFJBQ08CAAAAMAEBAQEBAQEBAS0BAQEBAQEBAQEBAQEBAQEBAQ0AAAABAQEBAQEcDAEBAQEBAQEBAQEBAQEBAQEBAQEB"
+    "AQEBAQEBAQEBAQEBAQEBAQEBAQEBAQEBAQEBDAwMAQEBAQEBAQEBAQEBAQEBAQEMDAwMDAxDQ0NDQ0NDQ0NDQ0NDQ0ND"
+    "Q0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0NDQ0MxIAo0GS4BAQEBAQEBAQEBAQEB"
+    "AQEBAQUBAQEBAQEBAQEBAQwMDAwMDDEgCjQZLjAK")
+
+
+def test_info_names_the_drc_file_whose_counts_exhaust_memory(geom_bin, tmp_path):
+    import base64
+    import resource
+    import subprocess
+    path = tmp_path / "claims_16m_points.drc"
+    path.write_bytes(base64.b64decode(DRC_CLAIMS_16M_POINTS))
+    gib = 1 << 30
+
+    def limit_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (gib, gib))
+
+    r = subprocess.run([str(geom_bin), "info", str(path)], capture_output=True, text=True,
+                       timeout=120, preexec_fn=limit_memory)
+    assert r.returncode == 1, r.stderr
+    line = one_line(r.stderr)
+    assert path.name in line and "ran out of memory" in line, line
+
+
 # ---- convert -------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name,extra,faces", [
