@@ -269,12 +269,17 @@ class ObjReader {
       const char* end = in_.end();
       const std::int64_t v = resolve(index_at(p, end, "vertex index"), soup_.positions.size(), "vertex", v_use_);
       std::int64_t t = kNone, n = kNone;
+      // Exporters write "1/", "1//" and "1/2/" for corners without a vt or vn: an empty
+      // slot is no reference.
+      auto slot_empty = [&] { return blank_or_eol(p, end) || *p == '/' || *p == '#'; };
       if (p < end && *p == '/') {
         ++p;
-        if (p < end && *p != '/') t = resolve(index_at(p, end, "texture index"), vt_.size(), "texture", vt_use_);
+        if (!slot_empty())
+          t = resolve(index_at(p, end, "texture index"), vt_.size(), "texture", vt_use_);
         if (p < end && *p == '/') {
           ++p;
-          n = resolve(index_at(p, end, "normal index"), vn_.size(), "normal", vn_use_);
+          if (!slot_empty())
+            n = resolve(index_at(p, end, "normal index"), vn_.size(), "normal", vn_use_);
         }
       }
       if (p < end && !is_blank(*p) && *p != '\n' && *p != '#') {

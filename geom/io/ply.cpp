@@ -4,14 +4,22 @@
 // red/green/blue colours (integer types scaled by the type's maximum, floats as they are),
 // u/v, s/t, texture_u/texture_v or texture_s/texture_t texture coordinates, and any other
 // scalar property a NamedScalars; the "face" element's vertex_indices (or vertex_index)
-// list becomes faces and its other scalar properties NamedScalars. Other elements and
-// other list properties are skipped in all three encodings.
+// list becomes faces and its other scalar properties NamedScalars. A "tristrips" element's
+// vertex_indices (the Stanford scans' form: strips separated by -1) becomes triangles after
+// the faces, odd triangles of a strip turned to keep the winding; its triangles with a
+// repeated vertex are the stitches between strips, not faces, and are left out (with face
+// scalars, strip triangles get 0). Other elements and list properties are skipped in all
+// three encodings.
+//
+// Header lines may end in "\n", "\r\n" or a bare "\r" (old Mac exporters); the first line
+// decides, so a binary body after "end_header\r" may begin with a 0x0A byte.
 //
 // The writer is in ply_write.cpp.
 
 #include <geom/io/formats.h>
 #include <geom/io/text.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string_view>
@@ -59,7 +67,7 @@ std::optional<Type> parse_type(std::string_view s) {
 
 // Where a vertex/face property's values go.
 enum class Role : std::uint8_t {
-  kSkip, kX, kY, kZ, kNx, kNy, kNz, kRed, kGreen, kBlue, kU, kV, kScalar, kIndices
+  kSkip, kX, kY, kZ, kNx, kNy, kNz, kRed, kGreen, kBlue, kU, kV, kScalar, kIndices, kStrip
 };
 
 struct PlyProperty {
@@ -110,7 +118,12 @@ class PlyReader {
   PlyReader(std::span<const std::byte> data, const std::string& name) : data_(data), name_(name) {}
 
   PolygonSoup run() {
+    // Lines ending in a bare '\r' are read from a copy with '\n' in their place, byte for
+    // byte, so offsets and line numbers hold: the header's lines, then an ascii body's.
+    const bool cr_lines = bare_cr_lines();
+    if (cr_lines) crs_to_newlines(cr_header_size());
     header();
+    if (cr_lines && encoding_ == Encoding::kAscii) crs_to_newlines(data_.size());
     if (encoding_ == Encoding::kAscii) {
       TextCursor in(data_, name_);
       in.set_pos(reinterpret_cast<const char*>(data_.data()) + body_);
@@ -121,11 +134,43 @@ class PlyReader {
       in.seek(body_);
       for (std::size_t e = 0; e < elements_.size(); ++e) binary_element(in, elements_[e], e);
     }
+    append_strip_triangles();
     if (soup_.face_offsets.size() <= 1) soup_.face_offsets.clear();
     return std::move(soup_);
   }
 
  private:
+  /// True when the first line ends in '\r' alone.
+  bool bare_cr_lines() const {
+    const std::string_view s(reinterpret_cast<const char*>(data_.data()), data_.size());
+    const std::size_t eol = s.find_first_of("\r\n");
+    return eol != std::string_view::npos && s[eol] == '\r' &&
+           (eol + 1 == s.size() || s[eol + 1] != '\n');
+  }
+
+  /// With '\r' line ends: the offset just past the "end_header" line's '\r' (the file's size
+  /// when there is none), so that a binary body's bytes are never taken for line ends.
+  std::size_t cr_header_size() const {
+    const std::string_view s(reinterpret_cast<const char*>(data_.data()), data_.size());
+    for (std::size_t at = 0, eol; (eol = s.find('\r', at)) != std::string_view::npos;
+         at = eol + 1) {
+      std::string_view line = s.substr(at, eol - at);
+      while (!line.empty() && is_blank(line.front())) line.remove_prefix(1);
+      if (line.starts_with("end_header") && (line.size() == 10 || is_blank(line[10])))
+        return eol + 1;
+    }
+    return s.size();
+  }
+
+  /// Makes every '\r' before `end` a '\n', in a copy of the file taken on first use.
+  void crs_to_newlines(std::size_t end) {
+    if (lines_.empty()) {
+      lines_.assign(reinterpret_cast<const char*>(data_.data()), data_.size());
+      data_ = std::as_bytes(std::span<const char>(lines_.data(), lines_.size()));
+    }
+    std::replace(lines_.begin(), lines_.begin() + static_cast<std::ptrdiff_t>(end), '\r', '\n');
+  }
+
   [[noreturn]] void header_fail(std::uint64_t line, const std::string& what) const {
     throw ParseError(name_, ParseError::Unit::kLine, line, what);
   }
@@ -246,9 +291,22 @@ class PlyReader {
           }
         }
         if (!has_indices_) header_fail(e.header_line, "face element has no vertex_indices list");
+      } else if (e.name == "tristrips") {
+        if (strip_element_) header_fail(e.header_line, "second tristrips element");
+        strip_element_ = &e;
+        auto indices = std::find_if(e.props.begin(), e.props.end(), [](const PlyProperty& p) {
+          return p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index");
+        });
+        if (indices == e.props.end())
+          header_fail(e.header_line, "tristrips element has no vertex_indices list");
+        if (!is_integer_type(indices->type))
+          header_fail(e.header_line, "tristrips indices must be an integer type");
+        indices->role = Role::kStrip;
       }
     }
     if (face_element_ && !vertex_element_) header_fail(face_element_->header_line, "face element without a vertex element");
+    if (strip_element_ && !vertex_element_)
+      header_fail(strip_element_->header_line, "tristrips element without a vertex element");
     n_vertices_ = vertex_element_ ? vertex_element_->count : 0;
   }
 
@@ -376,6 +434,12 @@ class PlyReader {
             soup_.face_indices.push_back(static_cast<std::uint32_t>(v));
           }
           add_face_offset(in.pos());
+        } else if (p.role == Role::kStrip) {
+          strip_length_ = 0;
+          for (std::size_t k = 0; k < n; ++k) {
+            const double v = load_value(p.type, in.ptr() + k * s);
+            if (!add_strip_index(v)) in.fail_at(in.pos() + k * s, strip_index_error(v, i));
+          }
         }
         in.skip(n * s);
       }
@@ -522,6 +586,7 @@ class PlyReader {
         if (!count_fits(n, 2, static_cast<std::size_t>(in.end() - in.pos()) + 1))
           in.fail("list of " + std::to_string(n) + " values runs past the end of the file");
         if (p.role == Role::kIndices && n == 0) in.fail("face without vertices");
+        if (p.role == Role::kStrip) strip_length_ = 0;
         for (std::size_t k = 0; k < n; ++k) {
           const double v = ascii_value(in, p.type, "list value");
           if (p.role == Role::kIndices) {
@@ -529,12 +594,59 @@ class PlyReader {
               in.fail("vertex index " + std::to_string(static_cast<long long>(v)) + " out of range (" +
                       std::to_string(n_vertices_) + " vertices)");
             soup_.face_indices.push_back(static_cast<std::uint32_t>(v));
+          } else if (p.role == Role::kStrip && !add_strip_index(v)) {
+            in.fail(strip_index_error(v, i));
           }
         }
         if (p.role == Role::kIndices) add_face_offset(in.line());
       }
       if (is_vertex && !push_vertex(r)) in.fail("vertex coordinate is NaN or infinite");
     }
+  }
+
+  // ---- tristrips -----------------------------------------------------------------------
+  /// One value of a strip list (each record starts a new strip, as -1 does). Triangle j of
+  /// a strip is (a, b, c) for even j and (b, a, c) for odd j, so all face the same way.
+  /// Returns false for a value that is neither -1 nor a vertex index.
+  bool add_strip_index(double v) {
+    if (v == -1) {
+      strip_length_ = 0;
+      return true;
+    }
+    if (v < 0 || v >= static_cast<double>(n_vertices_)) return false;
+    const auto c = static_cast<std::uint32_t>(v);
+    if (strip_length_ >= 2) {
+      const std::uint32_t a = strip_[0], b = strip_[1];
+      if (a != b && b != c && a != c) {
+        const bool odd = strip_length_ % 2 == 1;  // triangle j = strip_length_ - 2
+        strip_triangles_.insert(strip_triangles_.end(), {odd ? b : a, odd ? a : b, c});
+      }
+    }
+    strip_[0] = strip_[1];
+    strip_[1] = c;
+    ++strip_length_;
+    return true;
+  }
+
+  std::string strip_index_error(double v, std::uint64_t record) const {
+    return "element '" + strip_element_->name + "' record " + std::to_string(record) +
+           ": vertex index " + std::to_string(static_cast<long long>(v)) + " out of range (" +
+           std::to_string(n_vertices_) + " vertices; -1 ends a strip)";
+  }
+
+  /// Strip triangles go after the element "face"'s, wherever the elements are in the file.
+  void append_strip_triangles() {
+    if (strip_triangles_.empty()) return;
+    if (soup_.face_indices.size() + strip_triangles_.size() >
+        std::numeric_limits<std::uint32_t>::max())
+      throw ParseError(name_, ParseError::Unit::kNone, 0, "too many face corners");
+    if (soup_.face_offsets.empty()) soup_.face_offsets.push_back(0);
+    for (std::size_t t = 0; t < strip_triangles_.size(); t += 3) {
+      soup_.face_indices.insert(soup_.face_indices.end(), strip_triangles_.begin() + t,
+                                strip_triangles_.begin() + t + 3);
+      soup_.face_offsets.push_back(static_cast<std::uint32_t>(soup_.face_indices.size()));
+    }
+    for (auto& s : soup_.face_scalars) s.values.resize(soup_.n_faces(), 0.0);
   }
 
   double ascii_value(TextCursor& in, Type t, const char* what) {
@@ -560,11 +672,16 @@ class PlyReader {
   std::vector<Element> elements_;
   const Element* vertex_element_ = nullptr;
   const Element* face_element_ = nullptr;
+  const Element* strip_element_ = nullptr;
   std::size_t body_ = 0;
   std::uint64_t body_line_ = 1;
   std::uint64_t n_vertices_ = 0;
   bool normals_ = false, colors_ = false, texcoords_ = false, has_indices_ = false;
   PolygonSoup soup_;
+  std::string lines_;            // the file with '\r' line ends made '\n' (see run())
+  std::uint32_t strip_[2] = {};  // the last two vertices of the current strip
+  std::size_t strip_length_ = 0;
+  std::vector<std::uint32_t> strip_triangles_;
 };
 
 }  // namespace

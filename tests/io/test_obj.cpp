@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 using namespace geom;
 using geom::test::parse;
 
@@ -98,12 +101,40 @@ TEST(Obj, OpenSubdivTags) {
   EXPECT_EQ(s.boundary_interpolation, 2);
 }
 
-TEST(Obj, EmptyFileIsAnEmptySoup) {
-  PolygonSoup s = parse("", FileFormat::kObj);
-  EXPECT_TRUE(s.positions.empty());
-  EXPECT_EQ(s.n_faces(), 0u);
-  s = parse("# nothing\n\n   \n", FileFormat::kObj);
-  EXPECT_TRUE(s.positions.empty());
+TEST(Obj, EmptySlotsInCornersAreNoReference) {
+  // Exporters write "1//" and "1/" for a corner with neither vt nor vn.
+  for (const char* face : {"f 1// 2// 3//\n", "f 1/ 2/ 3/\n", "f 1//\t2/ 3 # mixed\n"}) {
+    PolygonSoup s = parse(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n") + face, FileFormat::kObj);
+    ASSERT_EQ(s.n_faces(), 1u) << face;
+    EXPECT_EQ(s.face(0)[2], 2u) << face;
+    EXPECT_TRUE(s.corner_texcoords.empty()) << face;
+    EXPECT_TRUE(s.corner_normals.empty()) << face;
+  }
+  // "v/vt/" keeps its vt.
+  PolygonSoup s =
+      parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.25\nf 1/1/ 2/1/ 3/1/\n", FileFormat::kObj);
+  ASSERT_EQ(s.corner_texcoords.size(), 3u);
+  EXPECT_EQ(s.corner_texcoords[1], TexCoord(0.5, 0.25));
+  EXPECT_TRUE(s.corner_normals.empty());
+}
+
+TEST(Obj, FileWithoutGeometryIsAnErrorNamingIt) {
+  for (const char* text :
+       {"", "# nothing\n\n   \n", "mtllib scene.mtl\no empty\ng group\nusemtl red\n"}) {
+    try {
+      parse(text, FileFormat::kObj, "notes.obj");
+      ADD_FAILURE() << "no error for: " << text;
+    } catch (const ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find("notes.obj: no geometry"), std::string::npos)
+          << e.what();
+    }
+  }
+  // Read by path, as geom info, convert and batch read it.
+  const auto dir = std::filesystem::temp_directory_path() / "geom_obj_no_geometry";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "notes.obj") << "# only a comment\n";
+  EXPECT_THROW(read_soup(dir / "notes.obj"), ParseError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Obj, CrlfAndTabs) {

@@ -228,14 +228,134 @@ TEST(Ply, FloatExactnessAtTheEdgesOfTheFloatRange) {
   }
 }
 
-TEST(Ply, EmptySoupsRoundTrip) {
+// A file of no vertex and no face is not a mesh: read_soup refuses it naming the file, even
+// when its header declares the zero counts, so an empty soup writes but does not read back.
+TEST(Ply, EmptySoupsAreWrittenButRefusedOnReading) {
   for (FileFormat f : {FileFormat::kPly, FileFormat::kObj, FileFormat::kOff, FileFormat::kStl}) {
     for (bool binary : {true, false}) {
       WriteOptions o;
       o.binary = binary;
-      PolygonSoup r = parse(geom::test::write_string(PolygonSoup{}, f, o), f);
-      EXPECT_TRUE(r.positions.empty()) << format_name(f);
-      EXPECT_EQ(r.n_faces(), 0u) << format_name(f);
+      try {
+        parse(geom::test::write_string(PolygonSoup{}, f, o), f, "empty");
+        ADD_FAILURE() << format_name(f);
+      } catch (const ParseError& e) {
+        EXPECT_NE(std::string(e.what()).find("empty: no geometry"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
+namespace {
+
+/// Eight vertices, then a tristrips element (before the face element, so that the order of
+/// the result is not the file's) of two records, then one face 0 1 7. The strips, in the
+/// Stanford scans' form: "0 1 2 3 3 4 4 5 6 -1 6 5 1 7" (stitching degenerates and a restart)
+/// and "3 2 1 <last>" (a record starts a new strip).
+std::string tristrips_ply(const std::string& format, std::int32_t last = 0) {
+  const std::vector<std::int32_t> strips[2] = {{0, 1, 2, 3, 3, 4, 4, 5, 6, -1, 6, 5, 1, 7},
+                                               {3, 2, 1, last}};
+  const bool ascii = format == "ascii", big = format == "binary_big_endian";
+  std::string s = "ply\nformat " + format + " 1.0\nelement vertex 8\n"
+                  "property float x\nproperty float y\nproperty float z\n"
+                  "element tristrips 2\nproperty list int int vertex_indices\n"
+                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int v = 0; v < 8; ++v) {
+    if (ascii) s += std::to_string(v) + " " + std::to_string(v % 3) + " 0\n";
+    for (float c : {static_cast<float>(v), static_cast<float>(v % 3), 0.0f})
+      if (!ascii) put(s, c, big);
+  }
+  for (const auto& strip : strips) {
+    if (ascii) s += std::to_string(strip.size());
+    else put(s, static_cast<std::int32_t>(strip.size()), big);
+    for (std::int32_t i : strip) {
+      if (ascii) s += " " + std::to_string(i);
+      else put(s, i, big);
+    }
+    if (ascii) s += "\n";
+  }
+  if (ascii) return s + "3 0 1 7\n";
+  put(s, std::uint8_t{3}, big);
+  for (std::int32_t i : {0, 1, 7}) put(s, i, big);
+  return s;
+}
+
+constexpr const char* kPlyFormats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+
+}  // namespace
+
+TEST(Ply, TristripsAreTrianglesAfterTheFaces) {
+  // Odd triangles of a strip are turned (b, a, c) so that all face one way, the count going
+  // on across the dropped stitches; -1 and a new record both restart.
+  const std::vector<std::vector<std::uint32_t>> want = {{0, 1, 7}, {0, 1, 2}, {2, 1, 3}, {4, 5, 6},
+                                                        {6, 5, 1}, {1, 5, 7}, {3, 2, 1}, {1, 2, 0}};
+  for (const char* format : kPlyFormats) {
+    SCOPED_TRACE(format);
+    const PolygonSoup s = parse(tristrips_ply(format), FileFormat::kPly);
+    EXPECT_EQ(s.positions.size(), 8u);
+    EXPECT_EQ(s.positions[7], Point(7, 1, 0));
+    ASSERT_EQ(s.n_faces(), want.size());
+    for (std::size_t f = 0; f < want.size(); ++f)
+      EXPECT_EQ(std::vector<std::uint32_t>(s.face(f).begin(), s.face(f).end()), want[f])
+          << "face " << f;
+  }
+}
+
+TEST(Ply, TristripIndexOutOfRangeNamesTheElementAndRecord) {
+  for (const char* format : kPlyFormats) {
+    SCOPED_TRACE(format);
+    const std::string text = tristrips_ply(format, 8);
+    try {
+      parse(text, FileFormat::kPly, "s.ply");
+      ADD_FAILURE();
+    } catch (const ParseError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("element 'tristrips' record 1: vertex index 8 out of range (8 vertices"),
+                std::string::npos)
+          << msg;
+      // ascii: the second record's line; binary: the bad value, before the 13-byte face record.
+      EXPECT_EQ(e.where(), std::string(format) == "ascii" ? 21u : text.size() - 13 - 4) << msg;
+    }
+  }
+  EXPECT_THROW(parse(tristrips_ply("ascii", -2), FileFormat::kPly), ParseError);
+}
+
+// Old Mac exporters end lines in a bare '\r'; the first line says which line end the header
+// uses, so a binary body starts right after end_header's even when its first byte is 0x0A.
+TEST(Ply, HeaderLinesMayEndInCrOrCrlf) {
+  const float x0 = std::bit_cast<float>(std::uint32_t{0x3f80000a});  // little-endian: 0a 00 80 3f
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    SCOPED_TRACE(eol == "\r" ? "CR" : eol == "\n" ? "LF" : "CRLF");
+    auto header = [&eol](const std::string& format) {
+      const std::string lines = "ply\nformat " + format +
+                                " 1.0\ncomment Mac\nelement vertex 3\nproperty float x\n"
+                                "property float y\nproperty float z\nelement face 1\n"
+                                "property list uchar int vertex_indices\nend_header\n";
+      std::string h;
+      for (char c : lines) h += c == '\n' ? eol : std::string(1, c);
+      return h;
+    };
+    std::string binary = header("binary_little_endian");
+    const std::size_t body = binary.size();
+    for (float c : {x0, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) put(binary, c, false);
+    put(binary, std::uint8_t{3}, false);
+    for (std::int32_t i : {0, 1, 2}) put(binary, i, false);
+    ASSERT_EQ(binary[body], '\x0a');
+    const PolygonSoup b = parse(binary, FileFormat::kPly);
+    ASSERT_EQ(b.positions.size(), 3u);
+    EXPECT_EQ(b.positions[0].x(), x0);
+    EXPECT_EQ(b.n_faces(), 1u);
+
+    const std::string vertices = "0 0 0" + eol + "1 0 0" + eol + "0 1 0" + eol;
+    const PolygonSoup a = parse(header("ascii") + vertices + "3 0 1 2" + eol, FileFormat::kPly);
+    EXPECT_EQ(a.positions.size(), 3u);
+    EXPECT_EQ(a.n_faces(), 1u);
+    EXPECT_EQ(sniff_format(geom::test::bytes(binary)), FileFormat::kPly);
+    // Errors count lines at any of the three line ends: the face is line 14.
+    try {
+      parse(header("ascii") + vertices + "3 0 1 3" + eol, FileFormat::kPly);
+      ADD_FAILURE();
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.where(), 14u) << e.what();
     }
   }
 }
