@@ -46,7 +46,9 @@ void bind_io(py::module_& m) {
 
   py::class_<LoadResult>(m, "LoadResult")
       .def_readonly("mesh", &LoadResult::mesh)
-      .def_readonly("report", &LoadResult::report);
+      .def_readonly("report", &LoadResult::report)
+      .def_readonly("warnings", &LoadResult::warnings,
+                    "What the reader skipped or could not keep, one line each");
 
   m.def(
       "load_mesh",
@@ -70,7 +72,7 @@ void bind_io(py::module_& m) {
         const PolygonSoup soup =
             read_soup(std::as_bytes(std::span<const char>(view.data(), view.size())), f, name);
         BuildResult built = geom::build(soup, build);
-        return LoadResult{std::move(built.mesh), std::move(built.report)};
+        return LoadResult{std::move(built.mesh), std::move(built.report), soup.warnings};
       },
       py::arg("data"), py::arg("format"), py::arg("build") = BuildOptions{},
       py::arg("name") = "<bytes>");

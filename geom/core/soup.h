@@ -51,6 +51,9 @@ struct PolygonSoup {
   std::vector<EdgeSharpness> creases;
   std::vector<VertexSharpness> corners;
   std::optional<int> boundary_interpolation;  ///< OpenSubdiv's VtxBoundaryInterpolation
+  /// What the reader skipped or could not hold, one line each, for the caller to show (the
+  /// CLI on stderr, Python as warnings). Not data: writers ignore it.
+  std::vector<std::string> warnings;
 
   std::size_t n_faces() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
   std::span<const std::uint32_t> face(std::size_t f) const {

@@ -1,11 +1,15 @@
 #pragma once
 /// \file
 /// glTF 2.0 (.gltf with embedded or external buffers, .glb): meshes with positions, normals,
-/// texture coordinates and indices, and the node hierarchy with its transforms — kept as a
-/// document, or flattened into one soup for conversion. LOD chains are written with the
+/// texture coordinates, colours and indices, and the node hierarchy with its transforms — kept
+/// as a document, or flattened into one soup for conversion. Reading also takes
+/// Draco-compressed primitives, quantized attributes, meshopt-compressed buffer views and
+/// sparse accessors; point and line primitives are skipped with a warning, as are required
+/// extensions that change only materials, textures or lights. LOD chains are written with the
 /// MSFT_lod extension.
 ///
-/// Ref: Khronos, "glTF 2.0 Specification", 2021; Microsoft, "MSFT_lod" extension.
+/// Ref: Khronos, "glTF 2.0 Specification", 2021; Khronos, "KHR_draco_mesh_compression",
+/// "KHR_mesh_quantization"; "EXT_meshopt_compression"; Microsoft, "MSFT_lod" extension.
 
 #include <geom/core/soup.h>
 
@@ -33,6 +37,8 @@ struct GltfDocument {
   std::vector<std::string> mesh_names;
   std::vector<GltfNode> nodes;
   std::vector<int> roots;  ///< the default scene's nodes
+  /// What reading skipped or could not keep, one line each (primitives, extensions).
+  std::vector<std::string> warnings;
 };
 
 /// Parse glTF JSON or GLB bytes. External buffer URIs are resolved against `base_dir`
@@ -40,7 +46,8 @@ struct GltfDocument {
 /// Throws: ParseError naming `name` and the offending element ("accessors[3]: byteStride 2
 /// is smaller than the element size 12"): malformed JSON or GLB framing, missing or
 /// out-of-range buffers, views and accessors, bad strides, indices ≥ the vertex count,
-/// sparse accessors and Draco-compressed primitives (not supported).
+/// compressed data that does not decode, required extensions that change geometry in ways
+/// geom does not read (e.g. EXT_mesh_gpu_instancing).
 GltfDocument read_gltf(std::span<const std::byte> data, const std::string& name,
                        const std::filesystem::path& base_dir = {});
 
@@ -51,6 +58,8 @@ std::string write_gltf(const GltfDocument& doc, bool binary);
 
 /// One soup with every mesh instance transformed to world space (normals with the inverse
 /// transpose), following the default scene; for LOD nodes only the finest level is used.
+/// The document's warnings are carried over, with one for each attribute that only some
+/// instances have (and so is not kept).
 PolygonSoup flatten(const GltfDocument& doc);
 
 /// A document holding one mesh in one node.

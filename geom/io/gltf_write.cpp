@@ -25,20 +25,26 @@ struct Expanded {
   std::vector<Point> positions;
   std::vector<Normal> normals;
   std::vector<TexCoord> texcoords;
+  std::vector<Color> colors;
   std::vector<std::uint32_t> triangles;
 };
 
 Expanded expand(const PolygonSoup& s) {
   Expanded e;
-  const bool corner_uv = !s.corner_texcoords.empty(), corner_n = !s.corner_normals.empty();
-  const bool vn = !corner_n && s.vertex_normals.size() == s.positions.size() && !s.positions.empty();
-  const bool vt = !corner_uv && s.vertex_texcoords.size() == s.positions.size() && !s.positions.empty();
+  // Corner values that agree at every vertex are also given per vertex (see soup.h's
+  // readers); then the vertices need no split.
+  const bool has_vn = s.vertex_normals.size() == s.positions.size() && !s.positions.empty();
+  const bool has_vt = s.vertex_texcoords.size() == s.positions.size() && !s.positions.empty();
+  const bool corner_uv = !s.corner_texcoords.empty() && !has_vt, corner_n = !s.corner_normals.empty() && !has_vn;
+  const bool vn = !corner_n && has_vn, vt = !corner_uv && has_vt;
+  const bool vc = s.vertex_colors.size() == s.positions.size() && !s.positions.empty();
   // Without corner attributes the vertices go out as they are, in their order and with
   // those no face uses (glTF allows them), so that a round trip keeps vertex numbers.
   if (!corner_uv && !corner_n) {
     e.positions = s.positions;
     if (vn) e.normals = s.vertex_normals;
     if (vt) e.texcoords = s.vertex_texcoords;
+    if (vc) e.colors = s.vertex_colors;
   }
   std::map<std::tuple<std::uint32_t, double, double, double, double, double>, std::uint32_t> seen;
   auto vertex_of = [&](std::size_t corner, std::uint32_t v) -> std::uint32_t {
@@ -49,8 +55,9 @@ Expanded expand(const PolygonSoup& s) {
     auto [it, fresh] = seen.emplace(key, static_cast<std::uint32_t>(e.positions.size()));
     if (fresh) {
       e.positions.push_back(s.positions[v]);
-      if (corner_n) e.normals.push_back(n);
-      if (corner_uv) e.texcoords.push_back(uv);
+      if (corner_n || vn) e.normals.push_back(corner_n ? n : s.vertex_normals[v]);
+      if (corner_uv || vt) e.texcoords.push_back(corner_uv ? uv : s.vertex_texcoords[v]);
+      if (vc) e.colors.push_back(s.vertex_colors[v]);
     }
     return it->second;
   };
@@ -62,6 +69,14 @@ Expanded expand(const PolygonSoup& s) {
       e.triangles.push_back(vertex_of(first + k, c[k]));
       e.triangles.push_back(vertex_of(first + k + 1, c[k + 1]));
     }
+  }
+  // glTF requires unit normals; a zero or non-finite one has no direction to write.
+  for (Normal& n : e.normals) {
+    if (!n.allFinite() || n.norm() == 0) {
+      e.normals.clear();
+      break;
+    }
+    n.normalize();
   }
   return e;
 }
@@ -88,7 +103,7 @@ class Writer {
     json acc = {{"bufferView", add_view(f.data(), f.size() * 4, 34962)}, {"componentType", 5126},
                 {"count", values.size()}, {"type", type}};
     if (bounds && !values.empty()) {  // POSITION must carry min and max
-      std::vector<float> lo(N, f[0]), hi(N, f[0]);
+      std::vector<float> lo(f.begin(), f.begin() + N), hi = lo;
       for (std::size_t i = 0; i < f.size(); ++i) {
         lo[i % N] = std::min(lo[i % N], f[i]);
         hi[i % N] = std::max(hi[i % N], f[i]);
@@ -109,6 +124,10 @@ class Writer {
     prim["attributes"]["POSITION"] = add_float_accessor<3>(e.positions, "VEC3", true);
     if (!e.normals.empty()) prim["attributes"]["NORMAL"] = add_float_accessor<3>(e.normals, "VEC3", false);
     if (!e.texcoords.empty()) prim["attributes"]["TEXCOORD_0"] = add_float_accessor<2>(e.texcoords, "VEC2", false);
+    if (!e.colors.empty()) {
+      for (Color& c : e.colors) c = c.cwiseMax(0.0).cwiseMin(1.0);  // glTF colours are in [0, 1]
+      prim["attributes"]["COLOR_0"] = add_float_accessor<3>(e.colors, "VEC3", false);
+    }
     gltf["accessors"].push_back({{"bufferView", add_view(e.triangles.data(), e.triangles.size() * 4, 34963)},
                                  {"componentType", 5125}, {"count", e.triangles.size()}, {"type", "SCALAR"}});
     prim["indices"] = gltf["accessors"].size() - 1;
@@ -210,7 +229,8 @@ std::string write_gltf(const GltfDocument& doc, bool binary) {
 
 PolygonSoup flatten(const GltfDocument& doc) {
   PolygonSoup out;
-  bool normals = true, uvs = true;
+  out.warnings = doc.warnings;
+  bool normals = true, uvs = true, colors = true;
   std::vector<std::uint8_t> on_path(doc.nodes.size(), 0);
   std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int i, const Eigen::Matrix4d& parent) {
     if (i < 0 || i >= static_cast<int>(doc.nodes.size())) throw InvalidArgument("glTF: missing node " + std::to_string(i));
@@ -224,8 +244,10 @@ PolygonSoup flatten(const GltfDocument& doc) {
       for (const Point& p : s.positions) out.positions.push_back(lin * p + world.block<3, 1>(0, 3));
       normals &= s.vertex_normals.size() == s.positions.size();
       uvs &= s.vertex_texcoords.size() == s.positions.size();
+      colors &= s.vertex_colors.size() == s.positions.size();
       if (normals) for (const Normal& v : s.vertex_normals) out.vertex_normals.push_back((nrm * v).normalized());
       if (uvs) out.vertex_texcoords.insert(out.vertex_texcoords.end(), s.vertex_texcoords.begin(), s.vertex_texcoords.end());
+      if (colors) out.vertex_colors.insert(out.vertex_colors.end(), s.vertex_colors.begin(), s.vertex_colors.end());
       const bool flip = lin.determinant() < 0;  // a mirror turns the faces inside out
       for (std::size_t f = 0; f < s.n_faces(); ++f) {
         std::vector<std::uint32_t> c(s.face(f).begin(), s.face(f).end());
@@ -239,8 +261,14 @@ PolygonSoup flatten(const GltfDocument& doc) {
     on_path[i] = 0;
   };
   for (int r : doc.roots) visit(r, Eigen::Matrix4d::Identity());
-  if (!normals) out.vertex_normals.clear();
-  if (!uvs) out.vertex_texcoords.clear();
+  auto drop = [&](bool keep, auto& values, const char* what) {
+    if (keep || values.empty()) return;
+    values.clear();
+    out.warnings.push_back(std::string(what) + " not kept: only some of the scene's meshes have them");
+  };
+  drop(normals, out.vertex_normals, "normals");
+  drop(uvs, out.vertex_texcoords, "texture coordinates");
+  drop(colors, out.vertex_colors, "colours");
   return out;
 }
 

@@ -178,7 +178,7 @@ FileFormat format_from_path(const std::filesystem::path& path) {
 }
 
 std::optional<FileFormat> sniff_format(std::span<const std::byte> head) {
-  if (starts_with(head, "ply\n") || starts_with(head, "ply\r\n")) return FileFormat::kPly;
+  if (starts_with(head, "ply\n") || starts_with(head, "ply\r")) return FileFormat::kPly;
   if (starts_with(head, "DRACO")) return FileFormat::kDrc;
   if (starts_with(head, "glTF")) return FileFormat::kGlb;
   // Binary STL: 80-byte header and a triangle count that matches the size exactly (only
@@ -217,7 +217,9 @@ std::optional<FileFormat> sniff_format(std::span<const std::byte> head) {
   return std::nullopt;
 }
 
-PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format, const std::string& name) {
+namespace {
+
+PolygonSoup read_any(std::span<const std::byte> data, FileFormat format, const std::string& name) {
   switch (format) {
     case FileFormat::kObj: return io_detail::read_obj(data, name);
     case FileFormat::kPly: return io_detail::read_ply(data, name);
@@ -230,7 +232,7 @@ PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format, const 
   throw InvalidArgument("unknown file format");
 }
 
-PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& options) {
+PolygonSoup read_file(const std::filesystem::path& path, const ReadOptions& options) {
   std::optional<FileFormat> format = options.format;
   if (!format && path == "-")
     throw InvalidArgument("reading from stdin ('-') needs an explicit format");
@@ -242,9 +244,31 @@ PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& opti
     throw InvalidArgument("cannot tell the format of '" + path.string() +
                           "' from its extension or content (expected OBJ, PLY, OFF, STL, DRC or glTF)");
   // glTF may keep its buffers in files beside it.
-  if (*format == FileFormat::kGltf || *format == FileFormat::kGlb)
-    return flatten(read_gltf(data, io_detail::display_name(path), path == "-" ? std::filesystem::path() : path.parent_path()));
-  return read_soup(data, *format, io_detail::display_name(path));
+  if (*format == FileFormat::kGltf || *format == FileFormat::kGlb) {
+    // "Duck.gltf" has no parent path; its buffers are in the current folder.
+    const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    return flatten(read_gltf(data, io_detail::display_name(path), path == "-" ? std::filesystem::path() : folder));
+  }
+  return read_any(data, *format, io_detail::display_name(path));
+}
+
+// A file of no vertex and no face is a wrong file (a text file named .obj, a glTF without
+// meshes), and reading it as an empty mesh would let info, convert and batch report "ok".
+PolygonSoup require_geometry(PolygonSoup soup, const std::string& name) {
+  if (!soup.positions.empty() || soup.n_faces() > 0) return soup;
+  std::string why;  // what the reader skipped may be all there was (a glTF of lines)
+  for (const std::string& w : soup.warnings) why += "; " + w;
+  throw ParseError(name, ParseError::Unit::kNone, 0, "no geometry: the file holds no vertex and no face" + why);
+}
+
+}  // namespace
+
+PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format, const std::string& name) {
+  return require_geometry(read_any(data, format, name), name);
+}
+
+PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& options) {
+  return require_geometry(read_file(path, options), io_detail::display_name(path));
 }
 
 std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format) {
@@ -275,8 +299,9 @@ void write_soup(const PolygonSoup& soup, const std::filesystem::path& path,
 
 LoadResult load_mesh(const std::filesystem::path& path, const ReadOptions& read,
                      const BuildOptions& options) {
-  BuildResult r = build(read_soup(path, read), options);
-  return {std::move(r.mesh), std::move(r.report)};
+  PolygonSoup soup = read_soup(path, read);
+  BuildResult r = build(soup, options);
+  return {std::move(r.mesh), std::move(r.report), std::move(soup.warnings)};
 }
 
 void save_mesh(const SurfaceMesh& mesh, const std::filesystem::path& path,

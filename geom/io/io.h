@@ -5,13 +5,15 @@
 /// PolygonSoup and never repair; load_mesh() builds a mesh from it and reports repairs.
 ///
 /// What each format carries (details at the top of each .cpp):
-/// - OBJ: v (with optional "r g b" colours), vt, vn, polygon faces in all four corner forms,
-///   negative indices, `\` continuations; g/o/s/usemtl/mtllib and unknown keywords skipped.
+/// - OBJ: v (with optional "r g b" colours), vt, vn, polygon faces in all four corner forms
+///   (an empty slot, as in `1//` or `1/`, is no reference), negative indices, `\`
+///   continuations; g/o/s/usemtl/mtllib and unknown keywords skipped.
 ///   vt/vn become corner_texcoords/corner_normals; when every corner has one and each
 ///   vertex's corners agree, vertex_texcoords/vertex_normals are filled too. OpenSubdiv tags
 ///   `t crease`, `t corner`, `t interpolateboundary` are read and written.
 /// - PLY: ascii and binary in both byte orders, every scalar type; normals, colours,
-///   texture coordinates and other scalar properties; unknown elements skipped. Written
+///   texture coordinates and other scalar properties; faces and tristrips (as triangles);
+///   header lines ending in LF, CR LF or CR; unknown elements skipped. Written
 ///   binary little-endian (or ascii) with float values where every value is exactly a float
 ///   and double otherwise, so positions come back bit for bit.
 /// - OFF: [ST][C][N]OFF, ascii and "OFF BINARY" (big-endian per the spec, little-endian as
@@ -64,11 +66,12 @@ struct WriteOptions {
 
 /// Read a file ("-" is stdin; then options.format is required) into a soup. The format is
 /// options.format, else the extension, else sniffed from the content.
-/// Throws: ParseError naming the file and line or byte offset; geom::Error when the file
-/// cannot be opened or read; InvalidArgument when the format cannot be determined.
+/// Throws: ParseError naming the file and line or byte offset, or naming the file when it
+/// holds no vertex and no face (a header declaring zero counts included); geom::Error when
+/// the file cannot be opened or read; InvalidArgument when the format cannot be determined.
 /// Complexity: O(file size); the file is mapped, not copied.
 PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& options = {});
-/// Read from bytes in memory; `name` is used in error messages.
+/// Read from bytes in memory; `name` is used in error messages. Throws: as above.
 PolygonSoup read_soup(std::span<const std::byte> data, FileFormat format,
                       const std::string& name = "<memory>");
 
@@ -91,6 +94,7 @@ std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format);
 struct LoadResult {
   SurfaceMesh mesh;
   BuildReport report;
+  std::vector<std::string> warnings;  ///< the reader's (PolygonSoup::warnings)
 };
 /// read_soup + build.
 LoadResult load_mesh(const std::filesystem::path& path, const ReadOptions& read = {},

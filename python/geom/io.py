@@ -1,6 +1,7 @@
 """Reading and writing mesh files (geom/io): OBJ, PLY, OFF, STL and Draco (.drc)."""
 
 import os
+import warnings
 
 from . import _geom
 from ._options import make
@@ -11,7 +12,13 @@ __all__ = ["load", "load_with_report", "loads", "save", "WriteOptions", "LoadRes
 
 WriteOptions = _geom.WriteOptions
 LoadResult = _geom.LoadResult
-FORMATS = ("obj", "ply", "off", "stl", "drc")
+FORMATS = ("obj", "ply", "off", "stl", "drc", "gltf", "glb")
+
+
+def _warn(result, name):
+    for line in result.warnings:
+        warnings.warn(f"{name}: {line}", UserWarning, stacklevel=3)
+    return result
 
 
 def load_with_report(path, format=None, **build_options):
@@ -19,13 +26,15 @@ def load_with_report(path, format=None, **build_options):
 
     ``format`` is one of FORMATS, or None to judge by the file name and content. Keyword
     options are BuildOptions fields (see :func:`geom.build`). Returns a LoadResult with
-    ``.mesh`` and ``.report`` (what building changed).
+    ``.mesh``, ``.report`` (what building changed) and ``.warnings`` (what the reader
+    skipped, e.g. a glTF's line primitives; each is also issued as a UserWarning).
 
     Raises OSError (FileNotFoundError, PermissionError, IsADirectoryError) when the file
     cannot be opened, ValueError (geom.ParseError naming the file and line or byte offset)
     when it is malformed.
     """
-    return _geom.load_mesh(os.fspath(path), format, make(BuildOptions, build_options))
+    result = _geom.load_mesh(os.fspath(path), format, make(BuildOptions, build_options))
+    return _warn(result, os.fspath(path))
 
 
 def load(path, format=None, **build_options):
@@ -36,7 +45,8 @@ def load(path, format=None, **build_options):
 def loads(data, format, name="<bytes>", **build_options):
     """Read a mesh from ``data`` (bytes) in ``format`` (one of FORMATS); ``name`` is used in
     error messages. Returns a LoadResult."""
-    return _geom.load_mesh_bytes(bytes(data), format, make(BuildOptions, build_options), name)
+    result = _geom.load_mesh_bytes(bytes(data), format, make(BuildOptions, build_options), name)
+    return _warn(result, name)
 
 
 def save(mesh, path, binary=True, format=None, **options):

@@ -178,8 +178,8 @@ TEST(Gltf, BadFilesGetErrorsNamingTheElement) {
   k["accessors"][0]["bufferView"] = 9;
   EXPECT_NE(error_of(k.dump()).find("accessors[0].bufferView"), std::string::npos);
   k = j;
-  k["meshes"][0]["primitives"][0]["mode"] = 1;
-  EXPECT_NE(error_of(k.dump()).find("not a surface"), std::string::npos);
+  k["meshes"][0]["primitives"][0]["mode"] = 7;
+  EXPECT_NE(error_of(k.dump()).find("mode: 7 is not a glTF primitive mode"), std::string::npos);
   k = j;
   k["asset"]["version"] = "1.0";
   EXPECT_NE(error_of(k.dump()).find("asset.version"), std::string::npos);

@@ -80,6 +80,45 @@ FLIPPED_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 3 4\n"
 FIN_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n"
 
 
+VALIDATOR = ROOT / "scripts" / "gltf-validate.mjs"
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "invalid_gltf: the test writes an invalid glTF on purpose")
+
+
+def gltf_validator_errors(paths):
+    """Run the Khronos glTF-Validator on `paths`; returns {path: [error lines]} for the files
+    with errors (an empty dict when all are valid)."""
+    import json
+    r = subprocess.run(["node", str(VALIDATOR), *map(str, paths)], capture_output=True,
+                       text=True, timeout=600)
+    if r.returncode == 2 or (r.returncode and not r.stdout):
+        pytest.fail(f"glTF-Validator did not run: {r.stderr.strip()}")
+    bad = {}
+    for line in r.stdout.splitlines():
+        report = json.loads(line)
+        if report["errors"]:
+            bad[report["file"]] = report["messages"]
+    return bad
+
+
+@pytest.fixture(autouse=True)
+def gltf_written_by_the_test_is_valid(request):
+    """Every .gltf/.glb a test leaves in its tmp_path passes the Khronos glTF-Validator with
+    no error (a test that writes an invalid one on purpose marks itself invalid_gltf)."""
+    checked = ("tmp_path" in request.fixturenames
+               and not request.node.get_closest_marker("invalid_gltf"))
+    tmp = request.getfixturevalue("tmp_path") if checked else None  # before it is torn down
+    yield
+    if not checked:
+        return
+    written = sorted(p for p in tmp.rglob("*") if p.suffix.lower() in (".gltf", ".glb"))
+    if written:
+        bad = gltf_validator_errors(written)
+        assert not bad, f"glTF-Validator errors: {bad}"
+
+
 @pytest.fixture(scope="session")
 def geom_bin():
     if not GEOM_BIN.is_file():
