@@ -65,6 +65,7 @@ void add_batch_command(CLI::App& app) {
         if (args->pipeline.empty() == args->steps.empty())
           throw UsageError("give --pipeline P.json or one or more --step, not both");
         if (args->resume && args->common.force) throw UsageError("give --resume or --force, not both");
+        if (!args->report.empty()) require_extension(args->report, {".jsonl"}, "--report");
         const batch::Pipeline pipeline = args->pipeline.empty()
                                              ? batch::parse_steps(args->steps)
                                              : batch::load_pipeline(args->pipeline);
@@ -117,7 +118,8 @@ void add_batch_command(CLI::App& app) {
                   "(repeat, in order; instead of --pipeline)");
   cmd->add_option("--jobs,-j", args->jobs, "Files processed at once (default: all cores)");
   cmd->add_flag("--resume", args->resume, "Skip files whose output exists and is newer than the input");
-  cmd->add_option("--report", args->report, "JSON-lines report (default OUT_DIR/batch-report.jsonl)");
+  cmd->add_option("--report", args->report,
+                  "JSON-lines report, a .jsonl file (default OUT_DIR/batch-report.jsonl)");
   cmd->add_flag("--force", args->common.force, "Replace outputs that already exist");
   add_common_options(cmd, args->common, kJson | kQuiet);
 }

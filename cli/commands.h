@@ -40,6 +40,8 @@
 ///  - human-readable text on stdout by default, one JSON document with --json;
 ///  - progress only on stderr, only when stderr is a terminal and --quiet is not given;
 ///  - outputs never overwrite an input unless --force is given;
+///  - an output's extension says what is written: one that is not a mesh (PNG, .gmc, SVG)
+///    is checked with require_extension before any work, a usage error when it is wrong;
 ///  - the CLI never computes geometry: it calls the library.
 
 #include <CLI/CLI.hpp>

@@ -89,13 +89,25 @@ void Progress::finish() {
 
 // ---- input ---------------------------------------------------------------------------
 
-PolygonSoup read_input(const std::string& path, const CommonOptions& /*common*/) {
+namespace {
+
+PolygonSoup read_soup_or_stdin(const std::string& path) {
   if (path != "-") return read_soup(path);
   std::string bytes((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
   auto data = std::as_bytes(std::span<const char>(bytes.data(), bytes.size()));
   auto format = sniff_format(data);
   if (!format) throw Error("<stdin>: cannot tell the mesh format from its content");
   return read_soup(data, *format, "<stdin>");
+}
+
+}  // namespace
+
+PolygonSoup read_input(const std::string& path, const CommonOptions& common) {
+  PolygonSoup soup = read_soup_or_stdin(path);
+  if (!common.quiet)
+    for (const std::string& w : soup.warnings)
+      std::cerr << "geom: warning: " << (path == "-" ? std::string("<stdin>") : path) << ": " << w << '\n';
+  return soup;
 }
 
 Loaded load_input(const std::string& path, const CommonOptions& common,
@@ -111,6 +123,14 @@ Loaded load_input(const std::string& path, const CommonOptions& common,
   loaded.report = std::move(built.report);
   progress.update(1.0, "done");
   return loaded;
+}
+
+BuildOptions repair_defaults() {
+  BuildOptions options;
+  options.weld_tolerance = 0.0;
+  options.orient = true;
+  options.drop_unreferenced = true;
+  return options;
 }
 
 // ---- output --------------------------------------------------------------------------
@@ -130,6 +150,23 @@ void check_not_input(const std::string& output, const std::vector<std::string>& 
     if (same_file(output, in))
       throw UsageError("refusing to overwrite the input '" + in +
                        "' with an output (pass --force to allow it)");
+}
+
+void require_extension(const std::string& path, std::initializer_list<std::string_view> extensions,
+                       const std::string& option) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (std::string_view e : extensions)
+    if (ext == e) return;
+  std::string expected;
+  std::size_t k = 0;
+  for (std::string_view e : extensions) {
+    if (k > 0) expected += k + 1 == extensions.size() ? " or " : ", ";
+    expected += e;
+    ++k;
+  }
+  throw UsageError(option + " '" + path + "' must end in " + expected);
 }
 
 void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& inputs,
@@ -229,6 +266,10 @@ nlohmann::json to_json(const BuildReport& r) {
           {"split_nonmanifold_edges", r.split_nonmanifold_edges},
           {"split_nonmanifold_vertices", r.split_nonmanifold_vertices},
           {"flipped_faces", r.flipped_faces},
+          {"collapsed_corners", r.collapsed_corners},
+          {"cut_edges", r.cut_edges},
+          {"detached_faces", r.detached_faces},
+          {"dropped_unreferenced", r.dropped_unreferenced},
           {"orientable", r.orientable},
           {"messages", r.messages}};
 }

@@ -17,9 +17,11 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace geom::cli {
@@ -101,6 +103,15 @@ bool same_file(const std::string& output, const std::string& input);
 /// Throws UsageError when `output` would overwrite one of `inputs` and --force was not given.
 void check_not_input(const std::string& output, const std::vector<std::string>& inputs,
                      const CommonOptions& common);
+/// Throws UsageError naming `option` and `path` unless `path` ends in one of `extensions`
+/// (lower case, with the dot; compared case-insensitively), so that a PNG is never written
+/// to "x.obj". Mesh-only outputs need not call it: write_output refuses an unknown extension.
+void require_extension(const std::string& path, std::initializer_list<std::string_view> extensions,
+                       const std::string& option);
+
+/// What `geom repair` does with its default flags (weld exact duplicates, orient, drop
+/// unreferenced vertices); `geom info` previews exactly this and `convert --repair` applies it.
+BuildOptions repair_defaults();
 
 /// Writes `mesh` to `path` (or common.output when path is empty) after check_not_input.
 /// Throws: UsageError (no output given, or it is an input), Error (cannot write).

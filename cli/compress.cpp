@@ -51,6 +51,7 @@ void add_compress_command(CLI::App& app) {
                               "Compress a mesh to a .gmc stream (a non-manifold file too: the "
                               "vertices loading splits apart are recorded, and decompress joins them)",
                               [args] {
+    require_extension(args->output, {".gmc"}, "output");
     check_not_input(args->output, {args->input}, args->common);
     Loaded loaded = load_input(args->input, args->common);
     const std::size_t copies = record_split(loaded.report, args->options);

@@ -1,4 +1,5 @@
-// geom convert IN OUT: any supported format to any other.
+// geom convert IN OUT: any supported format to any other. What the file holds is written as
+// it was read (no half-edge mesh is built) unless --weld or --repair asks for changes.
 
 #include "commands.h"
 #include "common.h"
@@ -13,6 +14,7 @@ void add_convert_command(CLI::App& app) {
     std::optional<double> weld;
     bool binary = false, ascii = false;
     bool no_attributes = false;
+    bool repair = false;
     int drc_bits = 0;
     CommonOptions common;
   };
@@ -20,26 +22,35 @@ void add_convert_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "convert", "Convert a mesh file to another format (by extension, or --format)",
       [args] {
-        BuildOptions build_options;
-        // Conversion keeps the file's faces as they are (no reorientation) unless welding was
-        // asked for; repairs the builder must make anyway are reported.
-        build_options.orient = false;
-        if (args->weld) build_options.weld_tolerance = *args->weld;
-        Loaded loaded = load_input(args->input, args->common, build_options);
         WriteOptions write;
         write.binary = !args->ascii;
         write.attributes = !args->no_attributes;
         write.drc_position_bits = args->drc_bits;
-        write_output(loaded.mesh, {args->input}, args->common, write, args->output);
+        PolygonSoup soup;
+        nlohmann::json repairs = nullptr;
+        std::string changes;
+        if (args->weld || args->repair) {
+          BuildOptions build_options;
+          if (args->repair) build_options = repair_defaults();
+          // Welding alone keeps the faces' orientation as given.
+          build_options.orient = args->repair;
+          build_options.weld_tolerance = args->weld ? *args->weld : 0.0;
+          Loaded loaded = load_input(args->input, args->common, build_options);
+          soup = to_soup(loaded.mesh);
+          repairs = to_json(loaded.report);
+          if (loaded.report.changed()) changes = to_text(loaded.report);
+        } else {
+          soup = read_input(args->input, args->common);
+        }
+        write_output(soup, {args->input}, args->common, write, args->output);
         nlohmann::json j = {{"input", args->input},
                             {"output", args->output},
-                            {"vertices", loaded.mesh.n_vertices()},
-                            {"faces", loaded.mesh.n_faces()},
-                            {"repairs", to_json(loaded.report)}};
+                            {"vertices", soup.positions.size()},
+                            {"faces", soup.n_faces()},
+                            {"repairs", repairs}};
         std::string text = args->input + " -> " + args->output + ": " +
-                           std::to_string(loaded.mesh.n_vertices()) + " vertices, " +
-                           std::to_string(loaded.mesh.n_faces()) + " faces\n";
-        if (loaded.report.changed()) text += to_text(loaded.report);
+                           std::to_string(soup.positions.size()) + " vertices, " +
+                           std::to_string(soup.n_faces()) + " faces\n" + changes;
         // Text would mix with the mesh when it goes to stdout.
         CommonOptions out = args->common;
         if (args->output == "-") out.quiet = true, out.json = false;
@@ -55,6 +66,10 @@ void add_convert_command(CLI::App& app) {
       ->expected(0, 1)
       ->default_str("0")
       ->type_name("[TOL]");
+  cmd->add_flag("--repair", args->repair,
+                "Repair as `geom repair` does (weld exact duplicates, drop degenerate and "
+                "duplicate faces and unused vertices, orient, split non-manifold elements) and "
+                "report it");
   auto* binary = cmd->add_flag("--binary", args->binary, "Binary PLY/STL (the default)");
   auto* ascii = cmd->add_flag("--ascii", args->ascii, "ASCII PLY/STL");
   binary->excludes(ascii);

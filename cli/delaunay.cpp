@@ -46,6 +46,7 @@ void add_delaunay_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "delaunay", "Delaunay triangulation of 2D points (exact predicates); OBJ/PLY/SVG out",
       [args] {
+        require_svg_or_mesh_output(args->common.output);
         PointSet ps = read_points(args->input);
         std::vector<Eigen::Vector2d> p = to_2d(ps);
         ConstrainedDelaunayResult r;

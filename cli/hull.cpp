@@ -21,6 +21,7 @@ void add_hull_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "hull",
       "Convex hull of 2D or 3D points (exact predicates); OBJ/PLY (3D) or SVG (2D) out", [args] {
+        require_svg_or_mesh_output(args->common.output);
         PointSet ps = read_points(args->input);
         // Output vertices are the input points in input order; faces index them.
         std::vector<std::vector<std::uint32_t>> faces;

@@ -18,7 +18,7 @@ void add_info_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "info", "Print the topology report of a mesh file (as given) and what repair would change",
       [args] {
-        Loaded loaded = load_input(args->input, args->common);
+        Loaded loaded = load_input(args->input, args->common, repair_defaults());
         const TopologyReport topology = analyze(loaded.soup);
         nlohmann::json j = to_json(topology);
         j["file"] = args->input;
@@ -28,7 +28,7 @@ void add_info_command(CLI::App& app) {
         report(args->common, j, text);
         return 0;
       });
-  cmd->add_option("file", args->input, "Mesh file (obj, ply, off, stl, drc; - for stdin)")
+  cmd->add_option("file", args->input, "Mesh file (obj, ply, off, stl, drc, gltf, glb; - for stdin)")
       ->required();
   add_common_options(cmd, args->common, kJson | kQuiet);
 }

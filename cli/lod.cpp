@@ -27,6 +27,7 @@ void add_lod_command(CLI::App& app) {
       [args] {
         if (args->levels < 1 || args->levels > 30) throw UsageError("--levels must be in [1, 30]");
         if (!(args->step > 0 && args->step < 1)) throw UsageError("--step must be in (0, 1)");
+        if (!args->gltf.empty()) require_extension(args->gltf, {".glb", ".gltf"}, "--gltf");
         Loaded loaded = load_input(args->input, args->common);
         LodChainOptions o;
         o.ratios.clear();

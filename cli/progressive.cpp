@@ -36,6 +36,7 @@ void add_progressive_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "progressive", "Write a progressive mesh stream (.gpm): base mesh, then vertex splits",
       [args] {
+        require_extension(args->output, {".gpm"}, "output");
         check_not_input(args->output, {args->input}, args->common);
         Loaded loaded = load_input(args->input, args->common);
         ProgressiveOptions o;

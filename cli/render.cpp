@@ -32,10 +32,15 @@ std::string read_text(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void write_png(const Image& image, const std::string& output, const std::vector<std::string>& inputs,
-               const CommonOptions& common) {
+// Checked before anything is read or drawn.
+void check_png_output(const std::string& output, const std::vector<std::string>& inputs,
+                      const CommonOptions& common) {
   if (output.empty()) throw UsageError("an output file is required (-o OUT.png)");
+  require_extension(output, {".png"}, "-o/--output");
   check_not_input(output, inputs, common);
+}
+
+void write_png(const Image& image, const std::string& output) {
   auto bytes = encode_png(image);
   std::ofstream out(output, std::ios::binary);
   if (!out || !out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
@@ -76,6 +81,7 @@ nlohmann::json stats_json(const RenderStats& s) {
 }
 
 int run_render(const RenderArgs& a) {
+  check_png_output(a.common.output, {a.input}, a.common);
   Scene scene = is_scene(a.input)
                     ? load_scene(a.input, a.common)
                     : scene_for_mesh(std::make_shared<const SurfaceMesh>(load_input(a.input, a.common).mesh));
@@ -94,7 +100,7 @@ int run_render(const RenderArgs& a) {
     scene.lights.front().shadows = true;
   }
   RenderResult r = render(scene, {.path = a.raytrace ? RenderPath::kRayTrace : RenderPath::kAuto});
-  write_png(r.image, a.common.output, {a.input}, a.common);
+  write_png(r.image, a.common.output);
   nlohmann::json j = stats_json(r.stats);
   j["output"] = a.common.output;
   j["width"] = r.image.width();
@@ -122,6 +128,7 @@ struct MontageArgs {
 int run_montage(const MontageArgs& a) {
   if (!a.labels.empty() && a.labels.size() != a.inputs.size())
     throw UsageError("--labels needs one label per input (" + std::to_string(a.inputs.size()) + ")");
+  check_png_output(a.common.output, a.inputs, a.common);
   Size size = parse_size(a.size);
   // Meshes of one size (a LOD chain, subdivision levels) share a camera so that they compare;
   // meshes of very different sizes are framed one by one. PNGs are taken as they are.
@@ -157,7 +164,7 @@ int run_montage(const MontageArgs& a) {
     labels.push_back(label);
   }
   Image out = montage(images, labels, {.columns = a.columns});
-  write_png(out, a.common.output, a.inputs, a.common);
+  write_png(out, a.common.output);
   report(a.common, {{"output", a.common.output}, {"width", out.width()}, {"height", out.height()}},
          "wrote " + a.common.output + " (" + std::to_string(out.width()) + "x" + std::to_string(out.height()) + ")");
   return 0;

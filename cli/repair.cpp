@@ -21,7 +21,7 @@ void add_repair_command(CLI::App& app) {
       "Weld duplicate vertices, drop degenerate faces, orient consistently, split non-manifold "
       "edges and vertices; print what changed",
       [args] {
-        BuildOptions options;
+        BuildOptions options = repair_defaults();
         options.weld_tolerance = args->weld;
         options.orient = !args->no_orient;
         options.drop_unreferenced = !args->keep_unreferenced;

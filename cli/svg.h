@@ -15,6 +15,8 @@
 
 #include <geom/core/errors.h>
 
+#include "common.h"
+
 namespace geom::cli {
 
 class Svg {
@@ -75,6 +77,14 @@ class Svg {
   std::vector<Eigen::Vector2d> dots_;
   std::string dot_fill_ = "black";
 };
+
+/// For the commands that write SVG or a mesh by the output's name: refuses any other name
+/// before the work is done. Empty (no output) and "-" are left to the command.
+inline void require_svg_or_mesh_output(const std::string& path) {
+  if (!path.empty() && path != "-")
+    require_extension(path, {".svg", ".obj", ".ply", ".off", ".stl", ".drc", ".gltf", ".glb"},
+                      "-o/--output");
+}
 
 /// True when `path` ends in .svg (case-insensitive).
 inline bool is_svg(const std::string& path) {

@@ -42,6 +42,7 @@ void add_voronoi_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = add_command(
       app, "voronoi", "Voronoi diagram of 2D points, cells clipped to a box; SVG/OBJ out", [args] {
+        require_svg_or_mesh_output(args->common.output);
         PointSet ps = read_points(args->input);
         std::vector<Eigen::Vector2d> p(ps.points.size());
         for (std::size_t i = 0; i < p.size(); ++i) p[i] = ps.points[i].head<2>();

@@ -68,7 +68,10 @@ MeshCounts counts(const SurfaceMesh& m) { return {m.n_vertices(), m.n_faces()}; 
 
 // The mesh flowing through the steps, and what the last step decided about the output.
 struct State {
-  PolygonSoup soup;  // the input as read; kept only while a first "validate" needs it
+  // The input as read; kept while a first "validate" needs it, and written as it is when
+  // every step is a conversion (no half-edge mesh is built: nothing is repaired).
+  PolygonSoup soup;
+  bool soup_only = false;
   SurfaceMesh mesh;
   // The source vertex of each mesh vertex while the mesh is the one read and reading split
   // non-manifold vertices apart (a compress step records them, as geom compress does);
@@ -118,6 +121,11 @@ void apply(const Step& step, bool first, State& s) {
 void read(const Pipeline& p, const Task& task, State& s, Record& r) {
   s.soup = read_soup(task.input);
   r.before = {s.soup.positions.size(), s.soup.n_faces()};
+  r.warnings = s.soup.warnings;
+  s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
+  s.soup_only = std::all_of(p.steps.begin(), p.steps.end(),
+                            [](const Step& step) { return std::holds_alternative<ConvertStep>(step.options); });
+  if (s.soup_only) return;
   const auto* repair = std::get_if<RepairStep>(&p.steps.front().options);
   BuildResult built = build(s.soup, repair ? repair->options : BuildOptions{});
   s.mesh = std::move(built.mesh);
@@ -129,15 +137,14 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
   // (A pipeline that starts with a repair asked for the split mesh.)
   if (!repair && b.split_apart()) s.origin = b.vertex_origin;
   if (!std::holds_alternative<ValidateStep>(p.steps.front().options)) s.soup = {};
-  s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
 }
 
 void write(const Task& task, State& s, Record& r) {
   std::vector<std::byte> file;
-  if (!s.is_compressed) file = write_soup(to_soup(s.mesh), *s.write.format, s.write);
+  if (!s.is_compressed) file = write_soup(s.soup_only ? s.soup : to_soup(s.mesh), *s.write.format, s.write);
   const auto bytes = s.is_compressed ? std::as_bytes(std::span(s.compressed)) : std::span(std::as_const(file));
   write_atomically(task.output, bytes);
-  r.after = counts(s.mesh);
+  r.after = s.soup_only ? MeshCounts{s.soup.positions.size(), s.soup.n_faces()} : counts(s.mesh);
   r.output_bytes = bytes.size();
 }
 
@@ -159,6 +166,7 @@ std::string Record::to_json() const {
     j["bytes"] = output_bytes;
   }
   if (!error.empty()) j["error"] = error;
+  if (!warnings.empty()) j["warnings"] = warnings;
   j["steps"] = nlohmann::json::array();
   for (const auto& s : steps) j["steps"].push_back({{"step", s.step}, {"seconds", s.seconds}});
   j["seconds"] = seconds;

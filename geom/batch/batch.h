@@ -56,6 +56,7 @@ struct Record {
   std::vector<StepTime> steps;    ///< "read" first, "write" last
   double seconds = 0;
   std::string error;              ///< for "failed": the message, naming file/line/element
+  std::vector<std::string> warnings;  ///< what reading skipped (PolygonSoup::warnings)
 
   /// One JSON object on one line (no newline); timings under "seconds" and "steps".
   std::string to_json() const;

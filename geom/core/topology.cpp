@@ -34,7 +34,7 @@ struct UnionFind {
 // Fills χ and genus per component and the totals derived from them.
 void finish(TopologyReport& r) {
   long chi = 0;
-  bool all_genus = !r.per_component.empty();
+  bool all_genus = true;  // a surface of no faces (a point cloud) is empty: genus 0
   long genus = 0;
   for (auto& c : r.per_component) {
     c.euler_characteristic = static_cast<long>(c.vertices) - static_cast<long>(c.edges) +
@@ -288,7 +288,7 @@ TopologyReport analyze(const PolygonSoup& soup) {
   for (const auto& c : r.per_component) r.manifold = r.manifold && c.manifold;
   finish(r);
   // Genus is claimed only for manifold components whose faces already agree.
-  bool all = !r.per_component.empty();
+  bool all = true;
   long total = 0;
   for (std::size_t k = 0; k < r.per_component.size(); ++k) {
     auto& c = r.per_component[k];

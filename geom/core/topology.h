@@ -43,7 +43,8 @@ struct TopologyReport {
   std::size_t components = 0;  ///< connected components with at least one face
   /// χ = (V − isolated) − E + F.
   long euler_characteristic = 0;
-  /// Sum of component genera; empty when any component is non-manifold or non-orientable.
+  /// Sum of component genera (0 when there is no face); empty when any component is
+  /// non-manifold or non-orientable.
   std::optional<long> genus;
   bool closed = false, manifold = false, orientable = false;
   /// Every edge with two faces is traversed by them in opposite directions. A SurfaceMesh

@@ -229,10 +229,16 @@ TEST(Topology, EmptyInput) {
   EXPECT_EQ(r.vertices, 0u);
   EXPECT_EQ(r.components, 0u);
   EXPECT_FALSE(r.closed);
-  EXPECT_FALSE(r.genus.has_value());
+  // No face: an empty surface, manifold and orientable, of genus 0 (the same for points).
+  EXPECT_EQ(r.genus, std::optional<long>(0));
+  s.positions = {{0, 0, 0}, {1, 0, 0}};
+  r = analyze(s);
+  EXPECT_TRUE(r.manifold && r.orientable);
+  EXPECT_EQ(r.genus, std::optional<long>(0));
   auto rm = analyze(SurfaceMesh());
   EXPECT_EQ(rm.vertices, 0u);
   EXPECT_EQ(rm.components, 0u);
+  EXPECT_EQ(rm.genus, std::optional<long>(0));
 }
 
 }  // namespace

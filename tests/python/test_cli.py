@@ -141,6 +141,42 @@ def test_info_unknown_format(run, tmp_path):
     assert "mesh.xyz" in one_line(r.stderr)
 
 
+NO_GEOMETRY = {
+    "notes.obj": "# exported by nothing\nmtllib scene.mtl\ng empty\n",
+    "blank.obj": "",
+    "empty.ply": "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n",
+}
+
+
+@pytest.mark.parametrize("name", NO_GEOMETRY)
+def test_file_without_geometry_fails_naming_it(run, tmp_path, name):
+    path = tmp_path / name
+    path.write_text(NO_GEOMETRY[name])
+    out = tmp_path / "out.ply"
+    for args in (["info", path], ["convert", path, out]):
+        r = run(*args)
+        assert r.returncode == 1, f"{args[0]}: exit {r.returncode}; stdout {r.stdout!r}"
+        line = one_line(r.stderr)
+        assert name in line and "no geometry" in line, line
+    assert not out.exists()
+
+
+def test_batch_counts_a_file_without_geometry_as_failed(run, meshes, tmp_path):
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "good.obj").write_text(meshes["tetrahedron"].read_text())
+    (folder / "notes.obj").write_text(NO_GEOMETRY["notes.obj"])
+    r = run("batch", folder, tmp_path / "out", "--step", "validate", "--json", "--quiet")
+    assert r.returncode == 1, r.stderr
+    summary = json.loads(r.stdout)
+    assert summary["ok"] == 1 and summary["failed"] == 1
+    report = (tmp_path / "out" / "batch-report.jsonl").read_text().splitlines()
+    failed = [rec for rec in map(json.loads, report) if rec.get("status") == "failed"]
+    assert len(failed) == 1 and "notes.obj" in failed[0]["input"]
+    assert "no geometry" in failed[0]["error"]
+
+
 def test_corpus_is_present():
     assert corpus_files(), f"no malformed files in {CORPUS}"
 
@@ -220,7 +256,9 @@ def test_convert_points_only_to_gltf_warns_that_nothing_is_stored(run, tmp_path)
     r = run("convert", src, tmp_path / "points.glb")
     assert r.returncode == 0, r.stderr
     assert "3 vertices that no face uses are not stored (glb" in one_line(r.stderr)
-    assert json.loads(run("info", "--json", tmp_path / "points.glb").stdout)["vertices"] == 0
+    # A glTF without meshes holds no geometry, which is an error to read.
+    r = run("info", "--json", tmp_path / "points.glb")
+    assert r.returncode == 1 and "points.glb: no geometry" in one_line(r.stderr)
 
 
 def test_convert_ascii_and_binary_differ(run, tmp_path):
@@ -290,6 +328,51 @@ def test_convert_unwritable_output(run, tmp_path):
     r = run("convert", SAMPLE, tmp_path / "no" / "such" / "dir" / "x.ply")
     assert r.returncode == 1
     one_line(r.stderr)
+
+
+# ---- output names --------------------------------------------------------------------------
+
+POINTS_2D = "0 0\n1 0\n0 1\n1 1\n0.3 0.6\n"
+
+
+@pytest.mark.parametrize("args,option,bad", [
+    (["render", SAMPLE, "-o", "{tmp}/y.obj"], "-o/--output", "y.obj"),
+    (["render", SAMPLE, "-o", "-"], "-o/--output", "'-'"),
+    (["montage", SAMPLE, "-o", "{tmp}/m.jpg"], "-o/--output", "m.jpg"),
+    (["compress", SAMPLE, "{tmp}/out.obj"], "output", "out.obj"),
+    (["progressive", SAMPLE, "{tmp}/out.ply"], "output", "out.ply"),
+    (["voronoi", "{tmp}/p.txt", "-o", "{tmp}/cells.png"], "-o/--output", "cells.png"),
+    (["delaunay", "{tmp}/p.txt", "-o", "{tmp}/tri.png"], "-o/--output", "tri.png"),
+    (["hull", "{tmp}/p.txt", "-o", "{tmp}/hull.txt"], "-o/--output", "hull.txt"),
+    (["lod", SAMPLE, "{tmp}/levels", "--gltf", "{tmp}/chain.obj"], "--gltf", "chain.obj"),
+    (["batch", "{tmp}/in", "{tmp}/out", "--step", "validate", "--report", "{tmp}/r.obj"],
+     "--report", "r.obj"),
+])
+def test_output_name_must_say_what_is_written(run, tmp_path, args, option, bad):
+    # Exit 2 before any work: render used to put PNG bytes into y.obj.
+    (tmp_path / "p.txt").write_text(POINTS_2D)
+    (tmp_path / "in").mkdir()
+    before = set(tmp_path.rglob("*"))
+    r = run(*[str(a).replace("{tmp}", str(tmp_path)) for a in args])
+    assert r.returncode == 2, r.stderr
+    line = one_line(r.stderr)
+    assert option in line and bad in line and "must end in" in line, line
+    assert set(tmp_path.rglob("*")) == before
+
+
+def test_output_name_extension_is_case_insensitive(run, tmp_path):
+    (tmp_path / "p.txt").write_text(POINTS_2D)
+    assert run("compress", SAMPLE, tmp_path / "OUT.GMC", "--quiet").returncode == 0
+    cells = tmp_path / "cells.SVG"
+    assert run("voronoi", tmp_path / "p.txt", "-o", cells, "--quiet").returncode == 0
+
+
+def test_mesh_output_with_unknown_extension_is_refused(run, tmp_path):
+    # format_from_path decides mesh outputs: an unknown extension is refused naming the file.
+    r = run("convert", SAMPLE, tmp_path / "out.png")
+    assert r.returncode == 1
+    assert "out.png" in one_line(r.stderr)
+    assert not (tmp_path / "out.png").exists()
 
 
 # ---- validate ------------------------------------------------------------------------------

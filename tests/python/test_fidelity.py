@@ -1,0 +1,113 @@
+"""As given, unless asked: what a file holds comes back out of convert and batch, what info
+says a repair would do is what repair does, and what a reader skips is said."""
+
+import json
+import warnings
+
+import pytest
+
+import geom
+from conftest import ROOT
+
+# Everything build() would change: a degenerate triangle (repeated corner), a zero-area one,
+# two copies of one face, a fin (three faces on edge 1-2), an unused vertex, and a concave
+# 8-gon (an L shape).
+AS_GIVEN_OBJ = """v 0 0 0
+v 1 0 0
+v 0 1 0
+v 0 -1 0
+v 0 0 1
+v 2 0 0
+v 9 9 9
+v 3 0 0
+v 5 0 0
+v 5 1 0
+v 4 1 0
+v 4 3 0
+v 3 3 0
+v 3 2 0
+v 3 1 0
+f 1 2 3
+f 2 1 4
+f 1 2 5
+f 1 2 6
+f 1 1 2
+f 3 4 5
+f 3 4 5
+f 8 9 10 11 12 13 14 15
+"""
+
+
+def obj_faces(path):
+    return [line.split()[1:] for line in path.read_text().splitlines() if line.startswith("f ")]
+
+
+@pytest.mark.parametrize("ext", ["obj", "ply", "off"])
+def test_convert_writes_every_face_and_vertex_as_read(run, tmp_path, ext):
+    src = tmp_path / "given.obj"
+    src.write_text(AS_GIVEN_OBJ)
+    out = tmp_path / f"out.{ext}"
+    r = run("convert", "--json", src, out)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""
+    j = json.loads(r.stdout)
+    assert (j["vertices"], j["faces"], j["repairs"]) == (15, 8, None)
+    back = tmp_path / "back.obj"
+    assert run("convert", out, back).returncode == 0
+    assert obj_faces(back) == obj_faces(src)
+
+
+def test_convert_repairs_only_when_asked_and_says_what_changed(run, tmp_path):
+    src = tmp_path / "given.obj"
+    src.write_text(AS_GIVEN_OBJ)
+    r = run("convert", "--json", "--repair", src, tmp_path / "fixed.obj")
+    assert r.returncode == 0, r.stderr
+    rep = json.loads(r.stdout)["repairs"]
+    # Vertex 6 lay on a degenerate face only: once it is dropped, two vertices are unused.
+    assert (rep["dropped_degenerate"], rep["dropped_duplicate"]) == (2, 1)
+    assert (rep["split_nonmanifold_edges"], rep["dropped_unreferenced"]) == (1, 2)
+
+
+def test_info_previews_exactly_what_repair_does(run, tmp_path):
+    src = tmp_path / "given.obj"
+    src.write_text(AS_GIVEN_OBJ)
+    info = json.loads(run("info", "--json", src).stdout)["repairs"]
+    r = run("repair", "--json", src, tmp_path / "r.obj")
+    assert r.returncode == 0, r.stderr
+    done = json.loads(r.stdout)
+    for key in ("welded_vertices", "dropped_degenerate", "dropped_duplicate",
+                "dropped_unreferenced", "split_nonmanifold_edges", "split_nonmanifold_vertices",
+                "flipped_faces", "cut_edges"):
+        assert info[key] == done[key], key
+    assert info["dropped_unreferenced"] == 2
+
+
+def test_info_of_a_point_cloud_is_a_manifold_of_genus_zero(run, tmp_path):
+    src = tmp_path / "points.obj"
+    src.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n")
+    j = json.loads(run("info", "--json", src).stdout)
+    assert (j["manifold"], j["orientable"], j["genus"], j["components"]) == (True, True, 0, 0)
+    assert "n/a" not in run("info", src).stdout
+
+
+def test_batch_conversion_keeps_the_file_as_given(run, tmp_path):
+    src = tmp_path / "in"
+    src.mkdir()
+    (src / "given.obj").write_text(AS_GIVEN_OBJ)
+    r = run("batch", src, tmp_path / "out", "--step", "convert --format ply")
+    assert r.returncode == 0, r.stderr
+    record = json.loads((tmp_path / "out" / "batch-report.jsonl").read_text().splitlines()[0])
+    assert record["after"] == {"vertices": 15, "faces": 8}, record
+    assert record["repairs"] == 0
+
+
+def test_python_load_issues_the_readers_warnings(tmp_path):
+    modes = ROOT.parent / "shared" / "corpus" / "gltf-samples" / "Models" / "MeshPrimitiveModes"
+    path = modes / "glTF-Embedded" / "MeshPrimitiveModes.gltf"
+    if not path.is_file():
+        pytest.skip("corpus not found")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = geom.load_with_report(path)
+    assert any("point or line primitive was skipped" in str(w.message) for w in caught)
+    assert result.warnings and all("skipped" in w for w in result.warnings)
