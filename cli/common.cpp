@@ -111,7 +111,7 @@ PolygonSoup read_input(const std::string& path, const CommonOptions& common) {
 }
 
 Loaded load_input(const std::string& path, const CommonOptions& common,
-                  const BuildOptions& build_options) {
+                  const BuildOptions& build_options, bool report_changes) {
   Progress progress(path == "-" ? std::string("<stdin>") : fs::path(path).filename().string(),
                     !common.quiet);
   progress.update(0.0, "reading");
@@ -122,6 +122,10 @@ Loaded load_input(const std::string& path, const CommonOptions& common,
   loaded.mesh = std::move(built.mesh);
   loaded.report = std::move(built.report);
   progress.update(1.0, "done");
+  if (report_changes && !common.quiet)
+    for (const std::string& m : loaded.report.messages)
+      std::cerr << "geom: warning: " << (path == "-" ? std::string("<stdin>") : path)
+                << ": building the mesh changed it: " << m << '\n';
   return loaded;
 }
 
@@ -187,10 +191,9 @@ void write_output(const PolygonSoup& soup, const std::vector<std::string>& input
   progress.update(0.0, "writing");
   write_soup(soup, out, write);
   const FileFormat format = write.format ? *write.format : format_from_path(out);
-  if (const std::size_t n = unstored_vertices(soup, format); n > 0 && !common.quiet)
-    std::cerr << "geom: warning: " << out << ": " << n
-              << (n == 1 ? " vertex that no face uses is" : " vertices that no face uses are")
-              << " not stored (" << format_name(format) << " keeps only vertices of triangles)\n";
+  if (!common.quiet)
+    for (const std::string& line : unstored(soup, format, write))
+      std::cerr << "geom: warning: " << out << ": " << line << '\n';
 }
 
 void report(const CommonOptions& common, const nlohmann::json& j, const std::string& text) {

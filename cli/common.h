@@ -93,9 +93,11 @@ struct Loaded {
   SurfaceMesh mesh;  ///< built from it
   BuildReport report;
 };
-/// read_input + build, with a progress bar.
+/// read_input + build, with a progress bar. What the build changed is printed on stderr as
+/// warnings (unless --quiet), except where the command prints the report itself
+/// (report_changes = false).
 Loaded load_input(const std::string& path, const CommonOptions& common,
-                  const BuildOptions& build_options = {});
+                  const BuildOptions& build_options = {}, bool report_changes = true);
 
 /// True when `output` names the same file as one of `inputs` (existing files compared by
 /// identity, others by normalised path). "-" never collides.

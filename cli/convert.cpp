@@ -35,7 +35,7 @@ void add_convert_command(CLI::App& app) {
           // Welding alone keeps the faces' orientation as given.
           build_options.orient = args->repair;
           build_options.weld_tolerance = args->weld ? *args->weld : 0.0;
-          Loaded loaded = load_input(args->input, args->common, build_options);
+          Loaded loaded = load_input(args->input, args->common, build_options, false);
           soup = to_soup(loaded.mesh);
           repairs = to_json(loaded.report);
           if (loaded.report.changed()) changes = to_text(loaded.report);

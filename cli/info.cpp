@@ -18,7 +18,7 @@ void add_info_command(CLI::App& app) {
   CLI::App* cmd = add_command(
       app, "info", "Print the topology report of a mesh file (as given) and what repair would change",
       [args] {
-        Loaded loaded = load_input(args->input, args->common, repair_defaults());
+        Loaded loaded = load_input(args->input, args->common, repair_defaults(), false);
         const TopologyReport topology = analyze(loaded.soup);
         nlohmann::json j = to_json(topology);
         j["file"] = args->input;

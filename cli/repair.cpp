@@ -25,7 +25,7 @@ void add_repair_command(CLI::App& app) {
         options.weld_tolerance = args->weld;
         options.orient = !args->no_orient;
         options.drop_unreferenced = !args->keep_unreferenced;
-        Loaded loaded = load_input(args->input, args->common, options);
+        Loaded loaded = load_input(args->input, args->common, options, false);
         const std::string out = args->output.empty() ? args->common.output : args->output;
         if (out.empty()) throw UsageError("repair needs an output file (OUT or -o)");
         write_output(loaded.mesh, {args->input}, args->common, {}, out);

@@ -82,7 +82,9 @@ void bind_io(py::module_& m) {
       [](const SurfaceMesh& mesh, const std::string& path, const WriteOptions& options) {
         check_writable(path);
         py::gil_scoped_release release;
-        save_mesh(mesh, path, options);
+        const PolygonSoup soup = to_soup(mesh);
+        write_soup(soup, path, options);
+        return unstored(soup, options.format ? *options.format : format_from_path(path), options);
       },
       py::arg("mesh"), py::arg("path"), py::arg("options") = WriteOptions{});
 

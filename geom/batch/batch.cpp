@@ -141,10 +141,14 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
 
 void write(const Task& task, State& s, Record& r) {
   std::vector<std::byte> file;
-  if (!s.is_compressed) file = write_soup(s.soup_only ? s.soup : to_soup(s.mesh), *s.write.format, s.write);
+  if (!s.is_compressed) {
+    const PolygonSoup out = s.soup_only ? std::move(s.soup) : to_soup(s.mesh);
+    file = write_soup(out, *s.write.format, s.write);
+    for (std::string& line : unstored(out, *s.write.format, s.write)) r.warnings.push_back(std::move(line));
+  }
   const auto bytes = s.is_compressed ? std::as_bytes(std::span(s.compressed)) : std::span(std::as_const(file));
   write_atomically(task.output, bytes);
-  r.after = s.soup_only ? MeshCounts{s.soup.positions.size(), s.soup.n_faces()} : counts(s.mesh);
+  r.after = s.soup_only ? r.before : counts(s.mesh);
   r.output_bytes = bytes.size();
 }
 

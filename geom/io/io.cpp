@@ -271,15 +271,6 @@ PolygonSoup read_soup(const std::filesystem::path& path, const ReadOptions& opti
   return require_geometry(read_file(path, options), io_detail::display_name(path));
 }
 
-std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format) {
-  if (format == FileFormat::kGltf || format == FileFormat::kGlb)
-    return soup.n_faces() == 0 ? soup.positions.size() : 0;
-  if (format != FileFormat::kStl && !(format == FileFormat::kDrc && soup.n_faces() > 0)) return 0;
-  std::vector<bool> used(soup.positions.size(), false);
-  for (std::uint32_t v : soup.face_indices) used[v] = true;
-  return static_cast<std::size_t>(std::count(used.begin(), used.end(), false));
-}
-
 std::vector<std::byte> write_soup(const PolygonSoup& soup, FileFormat format,
                                   const WriteOptions& options) {
   std::string bytes = dispatch_write(soup, format, options);

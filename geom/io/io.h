@@ -91,6 +91,15 @@ std::vector<std::byte> write_soup(const PolygonSoup& soup, FileFormat format,
 /// there are no faces (glTF has no mesh without triangles). OBJ, PLY and OFF keep every vertex.
 std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format);
 
+/// What a file of this format written with these options would not hold of the soup, one
+/// line each with counts ("4 polygons of more than 3 corners are split into 10 triangles",
+/// "vertex scalars 'quality' are not stored"): unused vertices (as unstored_vertices), polygons
+/// fanned into triangles, attributes the format has no place for, per-corner values (UV seams,
+/// normal creases) where only per-vertex ones are stored, crease tags. What the options turned
+/// off (attributes = false) is not listed. Empty when the file keeps everything.
+/// Complexity: O(V + corners).
+std::vector<std::string> unstored(const PolygonSoup& soup, FileFormat format, const WriteOptions& options = {});
+
 struct LoadResult {
   SurfaceMesh mesh;
   BuildReport report;

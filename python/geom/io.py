@@ -55,8 +55,13 @@ def save(mesh, path, binary=True, format=None, **options):
     options (WriteOptions fields): ``attributes`` (write normals/colours/texture coordinates,
     default True), ``drc_position_bits`` (Draco quantisation, 0 = lossless), ``drc_level``.
 
+    What the format cannot hold (polygons in STL/Draco/glTF become triangles, attributes it
+    has no place for, UV seams where only per-vertex values are stored) is written without it
+    and named in a UserWarning, with counts.
+
     Raises OSError when the folder does not exist or is not writable, ValueError when the
     extension is unknown or the format cannot hold the data.
     """
     opts = make(WriteOptions, dict(options, binary=binary, format=format))
-    _geom.save_mesh(mesh, os.fspath(path), opts)
+    for line in _geom.save_mesh(mesh, os.fspath(path), opts):
+        warnings.warn(f"{os.fspath(path)}: {line}", UserWarning, stacklevel=2)

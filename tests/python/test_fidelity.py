@@ -90,13 +90,18 @@ def test_info_of_a_point_cloud_is_a_manifold_of_genus_zero(run, tmp_path):
     assert "n/a" not in run("info", src).stdout
 
 
-def test_batch_conversion_keeps_the_file_as_given(run, tmp_path):
+def batch_record(run, tmp_path, step):
+    """The batch report's record of AS_GIVEN_OBJ run through `step`."""
     src = tmp_path / "in"
     src.mkdir()
     (src / "given.obj").write_text(AS_GIVEN_OBJ)
-    r = run("batch", src, tmp_path / "out", "--step", "convert --format ply")
+    r = run("batch", src, tmp_path / "out", "--step", step)
     assert r.returncode == 0, r.stderr
-    record = json.loads((tmp_path / "out" / "batch-report.jsonl").read_text().splitlines()[0])
+    return json.loads((tmp_path / "out" / "batch-report.jsonl").read_text().splitlines()[0])
+
+
+def test_batch_conversion_keeps_the_file_as_given(run, tmp_path):
+    record = batch_record(run, tmp_path, "convert --format ply")
     assert record["after"] == {"vertices": 15, "faces": 8}, record
     assert record["repairs"] == 0
 
@@ -111,3 +116,41 @@ def test_python_load_issues_the_readers_warnings(tmp_path):
         result = geom.load_with_report(path)
     assert any("point or line primitive was skipped" in str(w.message) for w in caught)
     assert result.warnings and all("skipped" in w for w in result.warnings)
+
+
+def test_convert_names_what_the_output_format_cannot_hold(run, tmp_path):
+    src = tmp_path / "given.obj"
+    src.write_text(AS_GIVEN_OBJ)
+    r = run("convert", src, tmp_path / "out.stl")
+    assert r.returncode == 0, r.stderr
+    assert "out.stl: 1 polygon of more than 3 corners is split into 6 triangles" in r.stderr
+    assert "1 vertex that no face uses is not stored" in r.stderr
+    assert run("convert", "--quiet", src, tmp_path / "q.stl").stderr == ""
+
+
+def test_python_save_warns_naming_what_the_format_cannot_hold(tmp_path):
+    mesh = geom.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        geom.save(mesh, tmp_path / "quad.stl")
+        geom.save(mesh, tmp_path / "quad.obj")
+    assert [str(w.message) for w in caught] == [
+        f"{tmp_path / 'quad.stl'}: 1 polygon of more than 3 corners is split into 2 triangles "
+        "(stl holds triangles only)"]
+
+
+def test_batch_report_names_what_the_output_format_cannot_hold(run, tmp_path):
+    record = batch_record(run, tmp_path, "convert --format stl")
+    assert any("split into 6 triangles" in w for w in record["warnings"]), record
+
+
+def test_a_command_that_builds_a_mesh_says_what_the_build_changed(run, tmp_path):
+    src = tmp_path / "given.obj"
+    src.write_text(AS_GIVEN_OBJ)
+    r = run("simplify", src, "-o", tmp_path / "s.obj", "--ratio", "0.9")
+    assert r.returncode == 0, r.stderr
+    assert "given.obj: building the mesh changed it: dropped degenerate faces: 2" in r.stderr
+    assert "dropped duplicate faces: 1" in r.stderr
+    clean = tmp_path / "tetra.obj"
+    clean.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n")
+    assert run("simplify", clean, "-o", tmp_path / "t.obj", "--ratio", "0.9").stderr == ""
