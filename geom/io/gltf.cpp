@@ -8,9 +8,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <algorithm>
 #include <optional>
 
@@ -116,11 +113,9 @@ class Reader {
 
   /// One vertex attribute of a primitive: from its accessor, or from the Draco stream.
   std::vector<double> attribute(const json& at, const char* key, int n, std::size_t nv, const std::string& where,
-                                const DracoPrimitive* draco, const std::vector<std::string>& draco_names) {
-    if (draco) {
-      auto it = std::find(draco_names.begin(), draco_names.end(), key);
-      if (it != draco_names.end()) return draco->attributes[it - draco_names.begin()];
-    }
+                                const DracoPrimitive* draco) {
+    if (draco)
+      if (const std::vector<double>* values = draco->find(key)) return *values;
     std::size_t k = 0;
     // Quantized attributes (KHR_mesh_quantization) may use any of these types.
     auto values = buffers_->accessor(ctx_.index(at, key, array("accessors").size(), where), n,
@@ -130,12 +125,11 @@ class Reader {
   }
 
   /// COLOR_0 as RGB (VEC3 or VEC4, alpha set aside), or empty.
-  std::vector<double> colors(const json& at, std::size_t nv, const std::string& where, const DracoPrimitive* draco,
-                             const std::vector<std::string>& draco_names) {
+  std::vector<double> colors(const json& at, std::size_t nv, const std::string& where, const DracoPrimitive* draco) {
     const std::size_t a = ctx_.index(at, "COLOR_0", array("accessors").size(), where);
     const int n = components(ctx_.text(array("accessors")[a], "type", "accessors[" + std::to_string(a) + "]"));
     if (n != 3 && n != 4) fail(where + ".COLOR_0", "expected VEC3 or VEC4");
-    std::vector<double> rgba = attribute(at, "COLOR_0", n, nv, where, draco, draco_names);
+    std::vector<double> rgba = attribute(at, "COLOR_0", n, nv, where, draco);
     if (n == 3) return rgba;
     std::vector<double> rgb(nv * 3);
     for (std::size_t i = 0; i < nv; ++i) std::copy_n(rgba.begin() + 4 * i, 3, rgb.begin() + 3 * i);
@@ -175,34 +169,29 @@ class Reader {
       fail(where, "has no POSITION attribute");
     const json& at = prim["attributes"];
     std::optional<DracoPrimitive> draco = draco_of(prim, at, where);
-    std::vector<std::string> draco_names;
-    if (draco)
-      for (const char* key : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0"})
-        if (at.contains(key) && prim["extensions"]["KHR_draco_mesh_compression"]["attributes"].contains(key))
-          draco_names.push_back(key);
     const std::size_t n_acc = array("accessors").size();
     const std::size_t nv = draco ? draco->points
                                  : buffers_->declared_count(ctx_.index(at, "POSITION", n_acc, where + ".attributes"));
-    if (draco && std::find(draco_names.begin(), draco_names.end(), "POSITION") == draco_names.end())
+    if (draco && !draco->find("POSITION"))
       fail(where, "Draco-compressed primitive does not compress POSITION");
     if (soup.positions.size() + nv > 0xFFFFFFF0u) fail(where, "too many vertices");
     const auto base = static_cast<std::uint32_t>(soup.positions.size());
-    const auto pos = attribute(at, "POSITION", 3, nv, where + ".attributes", draco ? &*draco : nullptr, draco_names);
-    for (std::size_t i = 0; i < nv; ++i) soup.positions.emplace_back(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
     const DracoPrimitive* d = draco ? &*draco : nullptr;
+    const auto pos = attribute(at, "POSITION", 3, nv, where + ".attributes", d);
+    for (std::size_t i = 0; i < nv; ++i) soup.positions.emplace_back(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
     has.normals = has.normals && at.contains("NORMAL");
     if (has.normals) {
-      const auto v = attribute(at, "NORMAL", 3, nv, where + ".attributes", d, draco_names);
+      const auto v = attribute(at, "NORMAL", 3, nv, where + ".attributes", d);
       for (std::size_t i = 0; i < nv; ++i) soup.vertex_normals.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
     }
     has.uvs = has.uvs && at.contains("TEXCOORD_0");
     if (has.uvs) {
-      const auto v = attribute(at, "TEXCOORD_0", 2, nv, where + ".attributes", d, draco_names);
+      const auto v = attribute(at, "TEXCOORD_0", 2, nv, where + ".attributes", d);
       for (std::size_t i = 0; i < nv; ++i) soup.vertex_texcoords.emplace_back(v[2 * i], v[2 * i + 1]);
     }
     has.colors = has.colors && at.contains("COLOR_0");
     if (has.colors) {
-      const auto v = colors(at, nv, where + ".attributes", d, draco_names);
+      const auto v = colors(at, nv, where + ".attributes", d);
       for (std::size_t i = 0; i < nv; ++i) soup.vertex_colors.emplace_back(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
     }
     std::vector<std::uint32_t> idx;

@@ -98,7 +98,14 @@ class Buffers {
 struct DracoPrimitive {
   std::size_t points = 0;
   std::vector<std::uint32_t> triangles;
+  std::vector<std::string> semantics;           ///< of each attribute, in the order of `wanted`
   std::vector<std::vector<double>> attributes;  ///< in the order of `wanted`
+  /// The values of attribute `semantic`, or nullptr when the stream does not hold it.
+  const std::vector<double>* find(const std::string& semantic) const {
+    for (std::size_t i = 0; i < semantics.size(); ++i)
+      if (semantics[i] == semantic) return &attributes[i];
+    return nullptr;
+  }
 };
 struct DracoAttribute {
   std::string semantic;  ///< "POSITION", "NORMAL", … (for messages)

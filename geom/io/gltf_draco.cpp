@@ -47,6 +47,7 @@ DracoPrimitive decode_draco(std::span<const std::byte> bytes, const std::vector<
     if (att->num_components() < a.components)
       ctx.fail(w + ".attributes." + a.semantic, "Draco attribute has " + std::to_string(att->num_components()) +
                                                     " components, expected " + std::to_string(a.components));
+    out.semantics.push_back(a.semantic);
     std::vector<double>& values = out.attributes.emplace_back(out.points * a.components);
     for (draco::PointIndex p(0); p < mesh->num_points(); ++p) {
       double x[4] = {};
