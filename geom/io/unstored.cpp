@@ -41,6 +41,17 @@ bool has_seams(std::size_t corners, std::size_t per_vertex, std::size_t vertices
   return corners > 0 && per_vertex != vertices;
 }
 
+// glTF asks for unit normals and colours in [0, 1]: the writer leaves out normals when one
+// has no direction and clamps colours (gltf_write.cpp).
+void gltf_values(const PolygonSoup& soup, std::vector<std::string>& out) {
+  std::size_t zero = 0, outside = 0;
+  for (const auto* normals : {&soup.vertex_normals, &soup.corner_normals})
+    for (const Normal& n : *normals) zero += !n.allFinite() || n.norm() == 0;
+  for (const Color& c : soup.vertex_colors) outside += !(c.minCoeff() >= 0 && c.maxCoeff() <= 1);
+  if (zero) out.push_back("normals are not stored: " + plural(zero, "is", "are") + " zero or not finite (glTF needs unit normals)");
+  if (outside) out.push_back(plural(outside, "colour", "colours") + " outside [0, 1] are clamped (glTF's range)");
+}
+
 }  // namespace
 
 std::size_t unstored_vertices(const PolygonSoup& soup, FileFormat format) {
@@ -86,6 +97,7 @@ std::vector<std::string> unstored(const PolygonSoup& soup, FileFormat format, co
       out.push_back("vertex properties " + names(soup.vertex_scalars) + " are not stored" + in);
     if (!soup.face_scalars.empty() && !k.face_scalars)
       out.push_back("face properties " + names(soup.face_scalars) + " are not stored" + in);
+    if (format == FileFormat::kGltf || format == FileFormat::kGlb) gltf_values(soup, out);
   }
   if (!k.creases && (!soup.creases.empty() || !soup.corners.empty() || soup.boundary_interpolation))
     out.push_back("subdivision tags (" + plural(soup.creases.size(), "crease", "creases") + ", " +

@@ -56,6 +56,17 @@ TEST(Unstored, GltfSplitsPolygonsButKeepsSeamsAndColours) {
   EXPECT_EQ(lines[0], "2 polygons of more than 3 corners are split into 5 triangles (glb holds triangles only)");
 }
 
+TEST(Unstored, GltfNamesZeroNormalsAndClampedColours) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  s.add_face({0, 1, 2});
+  s.vertex_normals = {{0, 0, 1}, {0, 0, 0}, {0, 0, 2}};
+  s.vertex_colors = {{1, 0, 0}, {1.5, 0, 0}, {0, -0.1, 0}};
+  EXPECT_EQ(unstored(s, FileFormat::kGlb),
+            (std::vector<std::string>{"normals are not stored: 1 is zero or not finite (glTF needs unit normals)",
+                                      "2 colours outside [0, 1] are clamped (glTF's range)"}));
+}
+
 TEST(Unstored, NothingIsNamedWhenTheFileKeepsEverythingOrAttributesWereTurnedOff) {
   PolygonSoup s;
   s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
