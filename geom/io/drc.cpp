@@ -78,7 +78,7 @@ PolygonSoup read_drc(std::span<const std::byte> data, const std::string& name) {
   // (found by fuzz_points). Bitstreams from 2.0 on (every Draco release since 1.0, and the
   // only ones KHR_draco_mesh_compression allows) are checked by Draco itself, except against
   // the memory their counts ask for (below).
-  if (data.size() >= 7 && std::memcmp(data.data(), "DRACO", 5) == 0 && std::to_integer<int>(data[5]) < 2)
+  if (is_legacy_draco(data))
     fail(name, "Draco bitstream " + std::to_string(std::to_integer<int>(data[5])) + "." +
                    std::to_string(std::to_integer<int>(data[6])) +
                    " (before 2.0) is not read: its decoder trusts unchecked sizes; re-encode the "

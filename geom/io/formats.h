@@ -7,6 +7,7 @@
 #include <geom/io/io.h>
 
 #include <cstddef>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 #include <span>
@@ -44,6 +45,12 @@ class FileBytes {
 
 /// "<stdin>" for "-", else the path as given: the name used in messages.
 std::string display_name(const std::filesystem::path& path);
+
+/// A Draco bitstream before 2.0: its decoder sizes tables by unchecked header counts, so
+/// neither .drc files nor KHR_draco_mesh_compression primitives of this kind are decoded.
+inline bool is_legacy_draco(std::span<const std::byte> data) {
+  return data.size() >= 7 && std::memcmp(data.data(), "DRACO", 5) == 0 && std::to_integer<int>(data[5]) < 2;
+}
 
 /// Writers' precondition: face indices in range and attribute arrays of the documented
 /// lengths. Throws: InvalidArgument naming the first violation.

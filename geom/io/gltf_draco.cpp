@@ -1,6 +1,7 @@
 // KHR_draco_mesh_compression primitives through libdraco: the glTF names each attribute by
 // Draco's unique id, and the decoded points are the primitive's vertices.
 
+#include <geom/io/formats.h>
 #include <geom/io/gltf_buffers.h>
 
 #include <draco/compression/decode.h>
@@ -16,8 +17,7 @@ namespace geom::gltf_detail {
 DracoPrimitive decode_draco(std::span<const std::byte> bytes, const std::vector<DracoAttribute>& wanted,
                             const Context& ctx, const std::string& where) {
   const std::string w = where + ".extensions.KHR_draco_mesh_compression";
-  // The extension allows only Draco 2.x bitstreams; the 1.x decoder trusts unchecked sizes.
-  if (bytes.size() >= 7 && std::memcmp(bytes.data(), "DRACO", 5) == 0 && std::to_integer<int>(bytes[5]) < 2)
+  if (io_detail::is_legacy_draco(bytes))
     ctx.fail(w, "Draco bitstream before 2.0 (the extension requires 2.x)");
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
