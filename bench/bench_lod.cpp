@@ -144,7 +144,7 @@ PeerRun simplify_meshopt(const TriangleArrays& in, std::size_t target_faces) {
 PeerRun simplify_ours(const SurfaceMesh& in, std::size_t target_faces, int refit = -1) {
   PeerRun run;
   SimplifyResult r;
-  const SimplifyOptions o{.target_faces = target_faces, .refit_iterations = refit};
+  const SimplifyOptions o{.target_faces = target_faces, .keep_attributes = false, .refit_iterations = refit};
   const CpuWall t = cpu_wall_min([&] { r = simplify(in, o); }, 2);
   run.seconds = t.cpu, run.wall = t.wall;
   run.mesh = to_arrays(r.mesh);

@@ -222,7 +222,7 @@ void run_attribute_bench(std::size_t faces, double weight, const std::set<std::s
 #endif
     }
     if (peers.count("ours_attr")) {
-      SimplifyOptions o{.target_faces = target};
+      SimplifyOptions o{.target_faces = target, .keep_attributes = false};
       o.attributes.texcoords = {.enabled = true, .weight = weight};
       SimplifyResult r;
       const CpuWall seconds = cpu_wall_min([&] { r = simplify(mesh, o); }, 2);

@@ -196,6 +196,14 @@ void write_output(const PolygonSoup& soup, const std::vector<std::string>& input
       std::cerr << "geom: warning: " << out << ": " << line << '\n';
 }
 
+void warn_not_carried(const std::string& command, const std::vector<std::string>& names,
+                      const CommonOptions& common, const std::string& what) {
+  if (common.quiet || names.empty()) return;
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  std::cerr << "geom " << command << ": warning: " << what << ": " << list << '\n';
+}
+
 void report(const CommonOptions& common, const nlohmann::json& j, const std::string& text) {
   if (common.json) {
     std::cout << j.dump(2) << '\n';

@@ -125,6 +125,12 @@ void write_output(const PolygonSoup& soup, const std::vector<std::string>& input
                   const CommonOptions& common, WriteOptions write = {},
                   const std::string& path = {});
 
+/// Prints "geom <command>: warning: <what>: a, b" on stderr (unless --quiet) when `names`
+/// (properties, as missing_properties() gives them) is not empty.
+void warn_not_carried(const std::string& command, const std::vector<std::string>& names,
+                      const CommonOptions& common,
+                      const std::string& what = "not carried to the output");
+
 /// Prints `j` (with --json) or `text` (otherwise) on stdout, nothing with --quiet unless --json.
 void report(const CommonOptions& common, const nlohmann::json& j, const std::string& text);
 

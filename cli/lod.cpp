@@ -33,6 +33,7 @@ void add_lod_command(CLI::App& app) {
         o.ratios.clear();
         for (int k = 1; k <= args->levels; ++k) o.ratios.push_back(std::pow(args->step, k));
         const std::vector<LodLevel> levels = lod_chain(loaded.mesh, o);
+        warn_not_carried("lod", missing_properties(loaded.mesh, levels.front().mesh), args->common);
         std::filesystem::create_directories(args->outdir);
         const FileFormat format = args->common.output_format.value_or(FileFormat::kPly);
         const std::string stem = args->input == "-" ? "mesh" : std::filesystem::path(args->input).stem().string();

@@ -42,6 +42,8 @@ void add_progressive_command(CLI::App& app) {
         ProgressiveOptions o;
         o.simplify.ratio = args->ratio;
         const ProgressiveMesh pm = ProgressiveMesh::build(loaded.mesh, o);
+        warn_not_carried("progressive", missing_properties(loaded.mesh, SurfaceMesh()), args->common,
+                         "a .gpm stream holds positions only; not stored");
         const std::vector<std::byte> bytes = pm.encode();
         std::ofstream f(args->output, std::ios::binary);
         if (!f) throw Error("cannot open '" + args->output + "' for writing");

@@ -6,6 +6,7 @@
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace geom::cli {
@@ -37,24 +38,33 @@ void add_simplify_command(CLI::App& app) {
         o.target_faces = args->faces.value_or(0);
         if (args->max_error) o.max_error = *args->max_error;
         o.lock_boundary = args->keep_boundary;
+        const bool none = std::ranges::count(args->attributes, "none") > 0;
+        if (none && args->attributes.size() > 1)
+          throw UsageError("--attributes none cannot be combined with attribute names");
         for (const std::string& a : args->attributes) {
+          if (a == "none") continue;
           SimplifyAttribute& slot = a == "normals" ? o.attributes.normals
                                     : a == "uv"    ? o.attributes.texcoords
                                                    : o.attributes.colors;
           slot = {.enabled = true, .weight = args->attribute_weight};
         }
         Loaded loaded = load_input(args->input, args->common);
+        if (args->attributes.empty()) o.attributes = present_attributes(loaded.mesh, args->attribute_weight);
+        o.keep_attributes = false;
         Progress progress("simplify", !args->common.quiet && args->common.output != "-");
         o.progress = progress.callback();
         SimplifyResult r = simplify(loaded.mesh, o);
         progress.finish();
+        warn_not_carried("simplify", r.dropped_properties, args->common);
         write_output(r.mesh, {args->input}, args->common);
         nlohmann::json j = {{"faces_before", r.faces_before},
                             {"faces_after", r.faces_after},
                             {"collapses", r.collapses},
                             {"max_quadric_error", r.max_quadric_error},
                             {"refit_rounds", r.refit_rounds},
-                            {"stop", to_string(r.stop)}};
+                            {"stop", to_string(r.stop)},
+                            {"attributes", o.attributes.names()},
+                            {"dropped_properties", r.dropped_properties}};
         std::string text = std::to_string(r.faces_before) + " -> " + std::to_string(r.faces_after) +
                            " triangles (" + std::to_string(r.collapses) + " collapses; " +
                            to_string(r.stop) + ")\n";
@@ -86,9 +96,10 @@ void add_simplify_command(CLI::App& app) {
                   "Reject collapses leaving triangles below this quality (default 0.02)");
   cmd->add_option("--attributes", args->attributes,
                   "Attribute-aware quadrics for these properties (comma-separated: normals, uv, "
-                  "color); the output carries them, seams kept")
+                  "color; none); the output carries them, seams kept. Default: every one the "
+                  "input has")
       ->delimiter(',')
-      ->check(CLI::IsMember({"normals", "uv", "color"}));
+      ->check(CLI::IsMember({"normals", "uv", "color", "none"}));
   cmd->add_option("--attribute-weight", args->attribute_weight,
                   "Weight of attribute deviation against distance in a unit-diagonal box (default 1; "
                   "0 = carry without steering)");

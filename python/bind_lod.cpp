@@ -70,6 +70,7 @@ void bind_simplify(py::module_& m) {
           })
       .def_readwrite("min_triangle_quality", &SimplifyOptions::min_triangle_quality)
       .def_readwrite("refit_iterations", &SimplifyOptions::refit_iterations)
+      .def_readwrite("keep_attributes", &SimplifyOptions::keep_attributes)
       // {"normals" | "uv" | "color": weight} for the enabled attributes (the CLI's names).
       .def_property(
           "attributes",
@@ -103,7 +104,11 @@ void bind_simplify(py::module_& m) {
       .def_readonly("refit_rounds", &SimplifyResult::refit_rounds)
       .def_property_readonly("stop", [](const SimplifyResult& r) { return std::string(to_string(r.stop)); })
       .def_property_readonly("vertex_origin",
-                             [](const SimplifyResult& r) { return index_array(r.vertex_origin); });
+                             [](const SimplifyResult& r) { return index_array(r.vertex_origin); })
+      .def_readonly("dropped_properties", &SimplifyResult::dropped_properties);
+  // The CLI's names of the attributes simplify would carry by default.
+  m.def("present_attributes", [](const SurfaceMesh& mesh) { return present_attributes(mesh).names(); });
+  m.def("missing_properties", &missing_properties, py::arg("source"), py::arg("result"));
   m.def(
       "simplify",
       [](const SurfaceMesh& mesh, const SimplifyOptions& options) {

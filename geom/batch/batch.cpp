@@ -82,7 +82,7 @@ struct State {
   WriteOptions write;
 };
 
-void apply(const Step& step, bool first, State& s) {
+void apply(const Step& step, bool first, State& s, Record& r) {
   std::visit(
       [&](const auto& o) {
         using T = std::decay_t<decltype(o)>;
@@ -97,7 +97,13 @@ void apply(const Step& step, bool first, State& s) {
         } else if constexpr (std::is_same_v<T, RepairStep>) {
           if (!first) s.mesh = build(to_soup(s.mesh), o.options).mesh, s.origin.clear();  // first: done on read
         } else if constexpr (std::is_same_v<T, SimplifyStep>) {
-          s.mesh = simplify(s.mesh, o.options).mesh;
+          SimplifyResult result = simplify(s.mesh, o.options);
+          if (!result.dropped_properties.empty()) {
+            std::string names;
+            for (const std::string& n : result.dropped_properties) names += (names.empty() ? "" : ", ") + n;
+            r.warnings.push_back("simplify: not carried to the output: " + names);
+          }
+          s.mesh = std::move(result.mesh);
           s.origin.clear();
         } else if constexpr (std::is_same_v<T, SubdivideStep>) {
           s.mesh = subdivide(s.mesh, o.options).mesh;
@@ -254,7 +260,7 @@ Record process(const Pipeline& pipeline, const Task& task, ExistingOutput existi
     State s;
     timed(r, "read", [&] { read(pipeline, task, s, r); });
     for (std::size_t i = 0; i < pipeline.steps.size(); ++i)
-      timed(r, pipeline.steps[i].text, [&] { apply(pipeline.steps[i], i == 0, s); });
+      timed(r, pipeline.steps[i].text, [&] { apply(pipeline.steps[i], i == 0, s, r); });
     timed(r, "write", [&] { write(task, s, r); });
     r.status = "ok";
   } catch (const std::bad_alloc&) {

@@ -56,7 +56,9 @@ struct Record {
   std::vector<StepTime> steps;    ///< "read" first, "write" last
   double seconds = 0;
   std::string error;              ///< for "failed": the message, naming file/line/element
-  std::vector<std::string> warnings;  ///< what reading skipped (PolygonSoup::warnings)
+  /// What reading skipped (PolygonSoup::warnings), a step did not carry or the output
+  /// format cannot hold.
+  std::vector<std::string> warnings;
 
   /// One JSON object on one line (no newline); timings under "seconds" and "steps".
   std::string to_json() const;

@@ -661,4 +661,23 @@ void SurfaceMesh::remove_loop_helper(Halfedge h) {
   ++deleted_edges_;
 }
 
+namespace {
+
+template <class H>
+void add_missing(const SurfaceMesh& from, const SurfaceMesh& to, std::vector<std::string>& out) {
+  for (const std::string& name : from.property_names<H>())
+    if (!to.has_property<H>(name)) out.push_back(name);
+}
+
+}  // namespace
+
+std::vector<std::string> missing_properties(const SurfaceMesh& from, const SurfaceMesh& to) {
+  std::vector<std::string> out;
+  add_missing<Vertex>(from, to, out);
+  add_missing<Halfedge>(from, to, out);
+  add_missing<Edge>(from, to, out);
+  add_missing<Face>(from, to, out);
+  return out;
+}
+
 }  // namespace geom

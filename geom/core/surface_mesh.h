@@ -334,6 +334,10 @@ template <> inline const PropertyContainer& SurfaceMesh::props<Halfedge>() const
 template <> inline const PropertyContainer& SurfaceMesh::props<Edge>() const { return eprops_; }
 template <> inline const PropertyContainer& SurfaceMesh::props<Face>() const { return fprops_; }
 
+/// Names of the properties `from` has and `to` lacks (vertex, halfedge, edge, then face
+/// ones), for saying what an operation that makes a new mesh did not carry over.
+std::vector<std::string> missing_properties(const SurfaceMesh& from, const SurfaceMesh& to);
+
 template <class H>
 void ElementRange<H>::Iterator::skip() {
   while (i_ < end_ && mesh_->is_deleted(H(i_))) ++i_;

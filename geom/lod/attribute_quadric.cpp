@@ -364,3 +364,28 @@ void AttributeQuadrics::write(SurfaceMesh& out, const std::vector<std::uint32_t>
 }
 
 }  // namespace geom::detail
+
+namespace geom {
+
+std::vector<std::string> SimplifyAttributes::names() const {
+  std::vector<std::string> out;
+  if (normals.enabled) out.push_back("normals");
+  if (texcoords.enabled) out.push_back("uv");
+  if (colors.enabled) out.push_back("color");
+  return out;
+}
+
+SimplifyAttributes present_attributes(const SurfaceMesh& mesh, double weight) {
+  if (!(weight >= 0) || !std::isfinite(weight))
+    throw InvalidArgument("simplify: an attribute weight must be finite and >= 0, got " + std::to_string(weight));
+  SimplifyAttributes out;
+  SimplifyAttribute* slots[] = {&out.normals, &out.texcoords, &out.colors};
+  for (int k = 0; k < 3; ++k) {
+    const detail::Names& nm = detail::kNames[k];
+    if (detail::Reader<Vertex>(mesh, nm.vertex, nm.dims) || detail::Reader<Halfedge>(mesh, nm.corner, nm.dims))
+      *slots[k] = {.enabled = true, .weight = weight};
+  }
+  return out;
+}
+
+}  // namespace geom

@@ -28,8 +28,10 @@ struct LodChainOptions {
   DistanceOptions distance{};
 };
 
-/// Levels of detail from one collapse sequence (a progressive mesh), so each level is a
-/// coarsening of the previous one; levels come out in the order of options.ratios.
+/// Levels of detail, each a coarsening of the next finer one; levels come out in the order
+/// of options.ratios. Without attributes they come from one collapse sequence (a progressive
+/// mesh); with attributes (options.simplify's, or those the mesh holds when keep_attributes)
+/// each level is simplify() of the next finer one, so every level carries them, seams kept.
 /// Throws: InvalidArgument when a ratio is outside (0, 1] or as simplify() does.
 /// Complexity: O(F log F + levels × (F + S log F)) with S distance samples.
 std::vector<LodLevel> lod_chain(const SurfaceMesh& mesh, const LodChainOptions& options = {});

@@ -63,8 +63,22 @@ std::vector<detail::RefitLine> seam_lines(const SurfaceMesh& result, const Surfa
 
 }  // namespace
 
+SimplifyOptions with_present_attributes(const SurfaceMesh& mesh, SimplifyOptions options) {
+  if (!options.keep_attributes) return options;
+  const SimplifyAttributes present = present_attributes(mesh);
+  for (auto [slot, there] : {std::pair{&options.attributes.normals, present.normals},
+                             std::pair{&options.attributes.texcoords, present.texcoords},
+                             std::pair{&options.attributes.colors, present.colors}})
+    if (!slot->enabled) *slot = there;
+  options.keep_attributes = false;
+  return options;
+}
+
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options) {
-  return detail::simplify(mesh, options, detail::CollapseEngine::kParallelMinTriangles);
+  SimplifyResult result = detail::simplify(mesh, with_present_attributes(mesh, options),
+                                           detail::CollapseEngine::kParallelMinTriangles);
+  result.dropped_properties = missing_properties(mesh, result.mesh);
+  return result;
 }
 
 SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& options,

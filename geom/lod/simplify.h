@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace geom {
@@ -41,6 +42,8 @@ struct SimplifyAttribute {
 struct SimplifyAttributes {
   SimplifyAttribute normals, texcoords, colors;
   bool any() const { return normals.enabled || texcoords.enabled || colors.enabled; }
+  /// The enabled ones by the names the CLI and Python use: "normals", "uv", "color".
+  std::vector<std::string> names() const;
 };
 
 struct SimplifyOptions {
@@ -66,6 +69,10 @@ struct SimplifyOptions {
   /// its two sides); normals are renormalised, colours clamped to [0, 1].
   /// Not used by ProgressiveMesh.
   SimplifyAttributes attributes{};
+  /// Also take part, at weight 1, every attribute the mesh holds that `attributes` leaves
+  /// off (present_attributes()), so that the output keeps what the input had unless asked
+  /// otherwise. false: exactly the attributes enabled above (none: the output has none).
+  bool keep_attributes = true;
   /// Afterwards, refit the output's vertices to the input surface for this many rounds
   /// (refit.h; Hoppe's fit step): RMS 5–25% lower on the benchmark meshes. Boundary and
   /// locked vertices stay, faces do not flip, and moves that would raise a local Hausdorff
@@ -98,7 +105,18 @@ struct SimplifyResult {
   int refit_rounds = 0;
   /// Input vertex each output vertex came from (its surviving representative).
   std::vector<Vertex> vertex_origin;
+  /// The input's properties the output does not carry (missing_properties()): attributes
+  /// left out of the options, and those simplify cannot carry (sharpness tags, scalars).
+  std::vector<std::string> dropped_properties;
 };
+
+/// `options` with the attributes keep_attributes adds enabled (and keep_attributes false).
+SimplifyOptions with_present_attributes(const SurfaceMesh& mesh, SimplifyOptions options);
+
+/// The attributes simplify can carry that the mesh holds (normals and texture coordinates
+/// per corner or per vertex, vertex colours), enabled with this weight.
+/// Throws: InvalidArgument when weight is negative or not finite.
+SimplifyAttributes present_attributes(const SurfaceMesh& mesh, double weight = 1.0);
 
 /// Simplify a mesh by collapsing edges in order of quadric error until the target is met.
 /// The result keeps the input's topology: it stays manifold (link condition), keeps its

@@ -1,11 +1,13 @@
 """Levels of detail (geom/lod): quadric simplification, progressive meshes with geomorphs and
 the streaming .gpm format, and the sampled surface distance that measures their error."""
 
+import warnings
+
 from . import _geom
 from ._options import make
 
-__all__ = ["simplify", "compare", "ProgressiveMesh", "SimplifyOptions", "SimplifyResult",
-           "MeshDistance"]
+__all__ = ["simplify", "compare", "present_attributes", "ProgressiveMesh", "SimplifyOptions",
+           "SimplifyResult", "MeshDistance"]
 
 SimplifyOptions = _geom.SimplifyOptions
 SimplifyResult = _geom.SimplifyResult
@@ -15,28 +17,31 @@ MeshDistance = _geom.MeshDistance
 _ALIASES = {"faces": "target_faces", "keep_boundary": "lock_boundary", "refit": "refit_iterations"}
 
 
-def _attributes(options):
+def _attributes(options, mesh):
     """attributes=("normals", "uv", "color") and attribute_weights=W or {name: W} → the
-    binding's {name: weight}."""
+    binding's {name: weight}. attributes=None (the default): every one ``mesh`` holds;
+    attributes=() or "none": none."""
     names = options.pop("attributes", None)
     weights = options.pop("attribute_weights", None)
+    options["keep_attributes"] = False
     if names is None:
-        if weights is not None:
-            raise _geom.InvalidArgument("simplify: attribute_weights given without attributes")
-        return
-    names = [names] if isinstance(names, str) else list(names)
+        names = _geom.present_attributes(mesh)
+    elif isinstance(names, str):
+        names = [] if names == "none" else [names]
+    else:
+        names = list(names)
     if isinstance(weights, dict):
         unknown = set(weights) - set(names)
         if unknown:
-            raise _geom.InvalidArgument(f"simplify: weights for attributes not asked for: {sorted(unknown)}")
+            raise _geom.InvalidArgument(f"simplify: weights for attributes not asked for or not on the mesh: {sorted(unknown)}")
         options["attributes"] = {n: float(weights.get(n, 1.0)) for n in names}
     else:
         options["attributes"] = {n: 1.0 if weights is None else float(weights) for n in names}
 
 
-def _options(options, base_ratio):
+def _options(options, base_ratio, mesh):
     options = {_ALIASES.get(k, k): v for k, v in options.items()}
-    _attributes(options)
+    _attributes(options, mesh)
     if "ratio" in options and options.get("target_faces"):
         raise _geom.InvalidArgument("simplify: give ratio or faces, not both")
     if "ratio" not in options:
@@ -59,10 +64,13 @@ def simplify(mesh, **options):
     keeping about a quarter of the faces or less, where it costs 0.15-0.25x the collapses'
     time, none above that, where it would cost 1.2x; 0 = off).
 
-    ``attributes=("normals", "uv", "color")`` makes the collapses attribute-aware (Hoppe's
-    quadric): the mesh's normals, texture coordinates and colours (per vertex, or per corner
-    as OBJ's vt/vn load) steer placement and are interpolated into the output, seams kept.
-    ``attribute_weights`` is one weight for all (default 1.0) or a dict per name.
+    The collapses are attribute-aware (Hoppe's quadric) for every attribute the mesh holds:
+    its normals, texture coordinates and colours (per vertex, or per corner as OBJ's vt/vn
+    load) steer placement and are interpolated into the output, seams kept.
+    ``attributes=("normals", "uv", "color")`` names which (``()`` or ``"none"``: none, and the
+    output has none); ``attribute_weights`` is one weight for all (default 1.0) or a dict per
+    name. What the output does not carry (attributes left out, sharpness tags, scalars) is
+    named in ``.dropped_properties`` and in a UserWarning.
 
     The result stays manifold, keeps boundary loops and genus, and flips no face. Returns a
     SimplifyResult with ``.mesh``, ``.faces_before``, ``.faces_after``, ``.collapses``,
@@ -73,7 +81,17 @@ def simplify(mesh, **options):
     Raises ValueError (geom.InvalidArgument) for a ratio outside [0, 1], both ratio and
     faces, or a negative max_error; TypeError for an unknown option.
     """
-    return _geom.simplify(mesh, _options(options, 0.5))
+    result = _geom.simplify(mesh, _options(options, 0.5, mesh))
+    if result.dropped_properties:
+        warnings.warn("simplify: not carried to the output: " + ", ".join(result.dropped_properties),
+                      UserWarning, stacklevel=2)
+    return result
+
+
+def present_attributes(mesh):
+    """The attributes of ``mesh`` that simplify() keeps by default, by the names its
+    ``attributes`` option takes: a list of "normals", "uv" and "color"."""
+    return _geom.present_attributes(mesh)
 
 
 def compare(a, b, samples=200000, seed=1):
@@ -92,7 +110,11 @@ _compiled_init = ProgressiveMesh.__init__
 
 
 def _progressive_init(self, mesh, **options):
-    _compiled_init(self, mesh, _options(options, 0.0))
+    _compiled_init(self, mesh, _options(options, 0.0, mesh))
+    dropped = _geom.missing_properties(mesh, _geom.Mesh())
+    if dropped:
+        warnings.warn("ProgressiveMesh holds positions only; not kept: " + ", ".join(dropped),
+                      UserWarning, stacklevel=2)
 
 
 # Patched onto the compiled class (not a Python subclass) so that load() and decode(), which

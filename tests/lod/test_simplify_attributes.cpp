@@ -4,6 +4,7 @@
 #include <geom/core/errors.h>
 #include <geom/core/geometry.h>
 #include <geom/core/soup.h>
+#include <geom/lod/lod_chain.h>
 #include <geom/lod/simplify.h>
 #include <geom/spatial/distance.h>
 
@@ -86,7 +87,7 @@ double mean_uv_error(const SurfaceMesh& m, auto&& corner_uv) {
 TEST(SimplifyAttributes, UvSeamKeptAndUvErrorSmallerThanGeometryOnly) {
   const SurfaceMesh m = uv_sphere(24, 48);
   const auto in_uv = m.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
-  const SimplifyResult plain = simplify(m, {.ratio = 0.2});
+  const SimplifyResult plain = simplify(m, {.ratio = 0.2, .keep_attributes = false});
   SimplifyOptions o{.ratio = 0.2};
   o.attributes.texcoords.enabled = true;
   o.attributes.normals.enabled = true;
@@ -374,6 +375,48 @@ TEST(SimplifyAttributes, RejectsMissingAttributesBadWeightsAndNaNs) {
   } catch (const InvalidArgument& e) {
     EXPECT_NE(std::string(e.what()).find("vertex 3"), std::string::npos) << e.what();
   }
+}
+
+// As given unless asked: the attributes a mesh holds are carried without being named, and
+// what the output lacks is named.
+TEST(SimplifyAttributes, KeptByDefaultAndWhatIsDroppedIsNamed) {
+  SurfaceMesh m = uv_sphere(12, 24);
+  m.add_property<Edge, double>(prop::kEdgeSharpness);
+  EXPECT_EQ(present_attributes(m).names(), (std::vector<std::string>{"normals", "uv"}));
+  const SimplifyResult kept = simplify(m, {.ratio = 0.3});
+  EXPECT_TRUE(kept.mesh.has_property<Halfedge>(prop::kCornerTexCoord));
+  EXPECT_TRUE(kept.mesh.has_property<Vertex>(prop::kVertexNormal));
+  EXPECT_EQ(kept.dropped_properties, std::vector<std::string>{"e:sharpness"});
+  const SimplifyResult bare = simplify(m, {.ratio = 0.3, .keep_attributes = false});
+  EXPECT_EQ(bare.dropped_properties, (std::vector<std::string>{"v:normal", "h:texcoord", "e:sharpness"}));
+  SimplifyOptions uv_only{.ratio = 0.3, .keep_attributes = false};
+  uv_only.attributes.texcoords.enabled = true;
+  EXPECT_EQ(simplify(m, uv_only).dropped_properties, (std::vector<std::string>{"v:normal", "e:sharpness"}));
+  uv_only.keep_attributes = true;  // the named one, and the others the mesh holds
+  EXPECT_EQ(simplify(m, uv_only).dropped_properties, std::vector<std::string>{"e:sharpness"});
+}
+
+TEST(LodChain, EveryLevelCarriesTheAttributesWithTheirSeam) {
+  const SurfaceMesh m = uv_sphere(24, 48);
+  const double f0 = static_cast<double>(m.n_faces());
+  const auto levels = lod_chain(m, {.ratios = {0.25, 0.5, 0.1}, .measure = false});
+  ASSERT_EQ(levels.size(), 3u);
+  for (const LodLevel& l : levels) {
+    const auto target = static_cast<double>(std::llround(l.ratio * f0));
+    EXPECT_LE(static_cast<double>(l.faces), 1.25 * target);
+    EXPECT_GE(static_cast<double>(l.faces), target - 2);
+    test::expect_same_topology(m, l.mesh);
+    const auto uv = l.mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
+    ASSERT_TRUE(uv) << "level " << l.ratio;
+    EXPECT_TRUE(l.mesh.has_property<Vertex>(prop::kVertexNormal));
+    const double err = mean_uv_error(l.mesh, [&](Halfedge h) { return uv[h]; });
+    EXPECT_LT(err, 0.02) << "level " << l.ratio;
+  }
+  EXPECT_LT(levels[2].faces, levels[0].faces);
+  EXPECT_LT(levels[0].faces, levels[1].faces);
+  const auto bare = lod_chain(m, {.ratios = {0.25}, .simplify = {.keep_attributes = false}, .measure = false});
+  EXPECT_FALSE(bare[0].mesh.has_property<Halfedge>(prop::kCornerTexCoord));
+  EXPECT_FALSE(bare[0].mesh.has_property<Vertex>(prop::kVertexNormal));
 }
 
 }  // namespace

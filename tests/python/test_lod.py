@@ -264,10 +264,14 @@ def test_simplify_with_attributes_carries_uvs_and_normals(tmp_path):
         if line.startswith("vn "):
             assert abs(np.linalg.norm([float(x) for x in line.split()[1:4]]) - 1) < 1e-6
 
-    # Without attributes the output has none.
+    # Asked for none, the output has none (and says so); by default it keeps them all.
     plain = tmp_path / "plain.obj"
-    geom.save(geom.simplify(mesh, ratio=0.3).mesh, str(plain))
+    with pytest.warns(UserWarning, match="not carried to the output"):
+        geom.save(geom.simplify(mesh, ratio=0.3, attributes=()).mesh, str(plain))
     assert obj_counts(plain.read_text())["vt"] == 0
+    kept = tmp_path / "kept.obj"
+    geom.save(geom.simplify(mesh, ratio=0.3).mesh, str(kept))
+    assert obj_counts(kept.read_text())["vt"] > obj_counts(kept.read_text())["v"]
 
     opts = geom.SimplifyOptions()
     opts.attributes = {"uv": 0.5}
