@@ -11,6 +11,8 @@
 #include <cstring>
 #include <iostream>
 #include <iterator>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 namespace geom::cli {
@@ -100,10 +102,24 @@ PolygonSoup read_soup_or_stdin(const std::string& path) {
   return read_soup(data, *format, "<stdin>");
 }
 
+// The material files (OBJ mtllib) of each input read, for write_output to name again.
+std::mutex libraries_mutex;
+std::map<std::string, std::vector<std::string>> libraries_read;
+
+std::vector<std::string> material_libraries_of(const std::string& input) {
+  const std::lock_guard lock(libraries_mutex);
+  const auto it = libraries_read.find(input);
+  return it == libraries_read.end() ? std::vector<std::string>{} : it->second;
+}
+
 }  // namespace
 
 PolygonSoup read_input(const std::string& path, const CommonOptions& common) {
   PolygonSoup soup = read_soup_or_stdin(path);
+  if (!soup.material_libraries.empty()) {
+    const std::lock_guard lock(libraries_mutex);
+    libraries_read[path] = soup.material_libraries;
+  }
   if (!common.quiet)
     for (const std::string& w : soup.warnings)
       std::cerr << "geom: warning: " << (path == "-" ? std::string("<stdin>") : path) << ": " << w << '\n';
@@ -175,7 +191,15 @@ void require_extension(const std::string& path, std::initializer_list<std::strin
 
 void write_output(const SurfaceMesh& mesh, const std::vector<std::string>& inputs,
                   const CommonOptions& common, WriteOptions write, const std::string& path) {
-  write_output(to_soup(mesh), inputs, common, write, path);
+  PolygonSoup soup = to_soup(mesh);
+  // A mesh keeps its faces' material names but not the files defining them: those of the
+  // inputs it was made from.
+  if (!soup.face_materials.empty())
+    for (const std::string& input : inputs)
+      for (const std::string& lib : material_libraries_of(input))
+        if (std::ranges::find(soup.material_libraries, lib) == soup.material_libraries.end())
+          soup.material_libraries.push_back(lib);
+  write_output(soup, inputs, common, write, path);
 }
 
 void write_output(const PolygonSoup& soup, const std::vector<std::string>& inputs,

@@ -37,6 +37,7 @@ void add_convert_command(CLI::App& app) {
           build_options.weld_tolerance = args->weld ? *args->weld : 0.0;
           Loaded loaded = load_input(args->input, args->common, build_options, false);
           soup = to_soup(loaded.mesh);
+          soup.material_libraries = loaded.soup.material_libraries;  // a mesh keeps none
           repairs = to_json(loaded.report);
           if (loaded.report.changed()) changes = to_text(loaded.report);
         } else {

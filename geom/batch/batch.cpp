@@ -77,6 +77,8 @@ struct State {
   // non-manifold vertices apart (a compress step records them, as geom compress does);
   // empty once a step changes the mesh.
   std::vector<std::uint32_t> origin;
+  // The input's material files (OBJ mtllib): a mesh keeps its faces' material names only.
+  std::vector<std::string> material_libraries;
   std::vector<std::uint8_t> compressed;  // set by a compress step
   bool is_compressed = false;
   WriteOptions write;
@@ -128,6 +130,7 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
   s.soup = read_soup(task.input);
   r.before = {s.soup.positions.size(), s.soup.n_faces()};
   r.warnings = s.soup.warnings;
+  s.material_libraries = s.soup.material_libraries;
   s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
   s.soup_only = std::all_of(p.steps.begin(), p.steps.end(),
                             [](const Step& step) { return std::holds_alternative<ConvertStep>(step.options); });
@@ -148,7 +151,8 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
 void write(const Task& task, State& s, Record& r) {
   std::vector<std::byte> file;
   if (!s.is_compressed) {
-    const PolygonSoup out = s.soup_only ? std::move(s.soup) : to_soup(s.mesh);
+    PolygonSoup out = s.soup_only ? std::move(s.soup) : to_soup(s.mesh);
+    if (!out.face_materials.empty() && out.material_libraries.empty()) out.material_libraries = s.material_libraries;
     file = write_soup(out, *s.write.format, s.write);
     for (std::string& line : unstored(out, *s.write.format, s.write)) r.warnings.push_back(std::move(line));
   }

@@ -45,6 +45,18 @@ struct Copier {
       p[Halfedge(from.into_corner[c])] = values[from.corner_origin[c]];
   }
 
+  void face_names(const FaceNames& names, const char* name) {
+    if (names.empty()) return;
+    if (mesh.has_property<Face>(name)) {
+      notes.push_back(std::string("property '") + name + "' given twice");
+      return;
+    }
+    auto p = mesh.add_property<Face, std::string>(name, std::string());
+    for (std::size_t f = 0; f < from.face_origin.size(); ++f)
+      if (const std::uint32_t i = names.of_face[from.face_origin[f]]; i != FaceNames::kUnnamed)
+        p[Face(static_cast<std::uint32_t>(f))] = names.names[i];
+  }
+
   void run() {
     const auto nv = static_cast<std::uint32_t>(soup.positions.size());
     vertex(soup.vertex_normals, prop::kVertexNormal);
@@ -59,6 +71,9 @@ struct Copier {
       for (std::size_t f = 0; f < from.face_origin.size(); ++f)
         p[Face(static_cast<std::uint32_t>(f))] = sc.values[from.face_origin[f]];
     }
+    face_names(soup.face_objects, prop::kFaceObject);
+    face_names(soup.face_groups, prop::kFaceGroup);
+    face_names(soup.face_materials, prop::kFaceMaterial);
     if (!soup.creases.empty()) {
       // A crease names an input edge; every output edge made from it (it may have been
       // split apart) carries the sharpness.

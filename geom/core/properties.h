@@ -61,7 +61,7 @@ class PropertyArray final : public BasePropertyArray {
   void gather(std::span<const std::uint32_t> old_of_new) override {
     std::vector<T> out;
     out.reserve(old_of_new.size());
-    for (std::uint32_t i : old_of_new) out.push_back(std::move(data_[i]));
+    for (std::uint32_t i : old_of_new) out.push_back(data_[i]);  // an index may repeat
     data_.swap(out);
   }
   std::unique_ptr<BasePropertyArray> clone() const override {

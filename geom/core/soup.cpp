@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <string>
 
 namespace geom {
@@ -24,6 +25,23 @@ std::vector<std::string> scalar_names(const SurfaceMesh& mesh, const char* prefi
     if (mesh.template get_property<H, double>(name)) out.push_back(name);
   }
   return out;
+}
+
+// The face property `name` (std::string, empty: no name) as FaceNames over `faces`.
+void face_names(const SurfaceMesh& mesh, const std::vector<Face>& faces, const char* name, FaceNames& out) {
+  const auto p = mesh.get_property<Face, std::string>(name);
+  if (!p) return;
+  std::unordered_map<std::string, std::uint32_t> index;
+  out.of_face.reserve(faces.size());
+  for (Face f : faces) {
+    if (p[f].empty()) {
+      out.of_face.push_back(FaceNames::kUnnamed);
+      continue;
+    }
+    const auto [it, added] = index.try_emplace(p[f], static_cast<std::uint32_t>(out.names.size()));
+    if (added) out.names.push_back(p[f]);
+    out.of_face.push_back(it->second);
+  }
 }
 
 }  // namespace
@@ -59,6 +77,13 @@ void check_soup(const PolygonSoup& so) {
     if (sc.values.size() != v)
       throw InvalidArgument("soup: vertex scalar '" + sc.name + "' has " + std::to_string(sc.values.size()) +
                             " values for " + std::to_string(v) + " vertices");
+  for (const auto* names : {&so.face_objects, &so.face_groups, &so.face_materials}) {
+    per(names->of_face.size(), f, "face names", "face");
+    for (std::uint32_t i : names->of_face)
+      if (i != FaceNames::kUnnamed && i >= names->names.size())
+        throw InvalidArgument("soup: a face name index " + std::to_string(i) + " is beyond the " +
+                              std::to_string(names->names.size()) + " names");
+  }
   for (const auto& sc : so.face_scalars)
     if (sc.values.size() != f)
       throw InvalidArgument("soup: face scalar '" + sc.name + "' has " + std::to_string(sc.values.size()) +
@@ -121,6 +146,9 @@ PolygonSoup to_soup(const SurfaceMesh& mesh) {
     soup.face_scalars.push_back(std::move(sc));
   }
 
+  face_names(mesh, faces, prop::kFaceObject, soup.face_objects);
+  face_names(mesh, faces, prop::kFaceGroup, soup.face_groups);
+  face_names(mesh, faces, prop::kFaceMaterial, soup.face_materials);
   if (auto sharp = mesh.get_property<Edge, double>(prop::kEdgeSharpness))
     for (Edge e : mesh.edges())
       if (sharp[e] != 0.0)

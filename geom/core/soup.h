@@ -20,6 +20,15 @@ struct NamedScalars {
   std::vector<double> values;
 };
 
+/// A name per face (OBJ's "o" objects, "g" groups, "usemtl" materials): an index into
+/// names, or kUnnamed for a face the file gave no name. Empty when the file names none.
+struct FaceNames {
+  static constexpr std::uint32_t kUnnamed = 0xffffffffu;
+  std::vector<std::string> names;
+  std::vector<std::uint32_t> of_face;
+  bool empty() const { return of_face.empty(); }
+};
+
 /// A crease tag: edge (a, b) with a sharpness (OpenSubdiv: 0 smooth … 10 = infinitely sharp).
 struct EdgeSharpness {
   std::uint32_t a, b;
@@ -47,6 +56,8 @@ struct PolygonSoup {
   std::vector<Normal> corner_normals;
   // Per-face attributes: empty, or one per face.
   std::vector<NamedScalars> face_scalars;
+  FaceNames face_objects, face_groups, face_materials;
+  std::vector<std::string> material_libraries;  ///< OBJ "mtllib" files, in order
   // Subdivision tags (OBJ "t crease" / "t corner" / "t interpolateboundary").
   std::vector<EdgeSharpness> creases;
   std::vector<VertexSharpness> corners;
@@ -79,6 +90,10 @@ inline constexpr const char* kCornerTexCoord = "h:texcoord";  // TexCoord, on th
 inline constexpr const char* kCornerNormal = "h:normal";      // Normal, likewise
 inline constexpr const char* kEdgeSharpness = "e:sharpness";  // double
 inline constexpr const char* kVertexSharpness = "v:sharpness";  // double
+// FaceNames become std::string face properties (empty: no name).
+inline constexpr const char* kFaceObject = "f:object name";
+inline constexpr const char* kFaceGroup = "f:group name";
+inline constexpr const char* kFaceMaterial = "f:material name";
 // NamedScalars become double properties "v:<name>" / "f:<name>".
 }  // namespace prop
 

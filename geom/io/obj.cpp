@@ -1,5 +1,6 @@
-// Wavefront OBJ: v / vt / vn / f records, OpenSubdiv "t" tags; everything else (groups,
-// materials, smoothing groups, lines, free-form geometry) is skipped.
+// Wavefront OBJ: v / vt / vn / f records, OpenSubdiv "t" tags, the names of faces' objects,
+// groups and materials ("o", "g", "usemtl") and the material files ("mtllib"); everything
+// else (smoothing groups, lines, free-form geometry) is skipped.
 //
 // Attributes: vt and vn become per-corner arrays (corner_texcoords, corner_normals), in
 // which a corner without a vt/vn reference gets (0, 0) / (0, 0, 0). When every corner has
@@ -11,6 +12,7 @@
 // indices are resolved against the records read so far, as the format defines.
 
 #include <geom/io/formats.h>
+#include <geom/io/obj_names.h>
 #include <geom/io/text.h>
 
 #include <tbb/parallel_for.h>
@@ -107,6 +109,7 @@ class ObjReader {
       } else if (c == 't' && p + 1 < end && is_blank(p[1])) {
         in_.set_pos(p + 1);
         tag();
+      } else if (names_statement(p, end)) {
       } else {
         // Unknown keywords are skipped as the format asks; a line that does not start with
         // a keyword or a comment is not OBJ at all (binary data, a wrong file).
@@ -163,6 +166,10 @@ class ObjReader {
       soup_.creases.insert(soup_.creases.end(), b.soup_.creases.begin(), b.soup_.creases.end());
       soup_.corners.insert(soup_.corners.end(), b.soup_.corners.begin(), b.soup_.corners.end());
       if (b.soup_.boundary_interpolation) soup_.boundary_interpolation = b.soup_.boundary_interpolation;
+      objects_.append(b.objects_);
+      groups_.append(b.groups_);
+      materials_.append(b.materials_);
+      for (const std::string& lib : b.soup_.material_libraries) add_library(lib);
     }
     static const char* const kKind[] = {"vertex", "texture", "normal"};
     for (const Fixup& f : fixups) {
@@ -175,6 +182,32 @@ class ObjReader {
   }
 
  private:
+  /// "o", "g" and "usemtl" name the following faces; "mtllib" names a material file.
+  bool names_statement(const char* p, const char* end) {
+    struct Keyword {
+      std::string_view word;
+      FaceNameTrack* track;
+    };
+    for (auto [word, track] : {Keyword{"o", &objects_}, Keyword{"g", &groups_}, Keyword{"usemtl", &materials_},
+                               Keyword{"mtllib", nullptr}}) {
+      if (static_cast<std::size_t>(end - p) < word.size() || std::memcmp(p, word.data(), word.size()) != 0 ||
+          !blank_or_eol(p + word.size(), end))
+        continue;
+      in_.set_pos(p + word.size());
+      std::string rest;  // the words up to the line's end, joined by single spaces
+      for (in_.skip_blanks(); !in_.at_eol(); in_.skip_blanks()) (rest += rest.empty() ? "" : " ") += in_.word();
+      if (track) track->set(rest);
+      else if (!rest.empty()) add_library(rest);
+      return true;
+    }
+    return false;
+  }
+
+  void add_library(const std::string& lib) {
+    auto& libs = soup_.material_libraries;
+    if (std::find(libs.begin(), libs.end(), lib) == libs.end()) libs.push_back(lib);
+  }
+
   void end_of_record() {
     in_.skip_blanks();
     if (!in_.at_eol()) in_.bad_token("end of line");
@@ -300,6 +333,9 @@ class ObjReader {
       ++corners;
     }
     if (corners == 0) in_.fail("face without vertices");
+    objects_.face();
+    groups_.face();
+    materials_.face();
     if (soup_.face_indices.size() > std::numeric_limits<std::uint32_t>::max())
       in_.fail("too many face corners");
     soup_.face_offsets.push_back(static_cast<std::uint32_t>(soup_.face_indices.size()));
@@ -397,6 +433,9 @@ public:
     if (soup_.face_offsets.size() == 1) soup_.face_offsets.clear();
     corner_values(corner_vt_, vt_, soup_.corner_texcoords, soup_.vertex_texcoords);
     corner_values(corner_vn_, vn_, soup_.corner_normals, soup_.vertex_normals);
+    soup_.face_objects = std::move(objects_).finish();
+    soup_.face_groups = std::move(groups_).finish();
+    soup_.face_materials = std::move(materials_).finish();
     return std::move(soup_);
   }
 
@@ -419,6 +458,7 @@ private:
   std::vector<Normal> vn_;
   std::vector<std::int64_t> corner_vt_, corner_vn_;
   IndexUse v_use_, vt_use_, vn_use_, tag_use_;
+  FaceNameTrack objects_, groups_, materials_;
 };
 
 void append_vec(std::string& out, const char* key, const double* v, int n) {
@@ -508,6 +548,7 @@ void write_obj(const PolygonSoup& soup, const WriteOptions& options, std::string
   const std::size_t nv = soup.positions.size();
   out.reserve(nv * 40 + soup.face_indices.size() * 12 + 64);
   out += "# written by geom\n";
+  for (const std::string& lib : soup.material_libraries) (out += "mtllib ") += lib + '\n';
   const bool colors = options.attributes && !soup.vertex_colors.empty();
   for (std::size_t v = 0; v < nv; ++v) {
     const Point& p = soup.positions[v];
@@ -547,6 +588,9 @@ void write_obj(const PolygonSoup& soup, const WriteOptions& options, std::string
   const bool has_vt = vt_vertex || !vt_of.empty();
   const bool has_vn = vn_vertex || !vn_of.empty();
   for (std::size_t f = 0; f < soup.n_faces(); ++f) {
+    write_face_name(soup.face_objects, "o", f, out);
+    write_face_name(soup.face_groups, "g", f, out);
+    write_face_name(soup.face_materials, "usemtl", f, out);
     out += 'f';
     for (std::uint32_t c = soup.face_offsets[f]; c < soup.face_offsets[f + 1]; ++c) {
       const std::uint32_t v = soup.face_indices[c];

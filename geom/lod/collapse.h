@@ -102,8 +102,9 @@ class CollapseEngine {
   /// The current mesh; out_origin receives the input vertex of each output vertex. With
   /// options.refit_iterations != 0, out_survivor (if given, sized to the input's
   /// vertices_size()) receives for each input vertex the output vertex it was merged into.
-  SurfaceMesh extract(std::vector<Vertex>* out_origin,
-                      std::vector<Vertex>* out_survivor = nullptr) const;
+  /// out_triangle (if given) receives the engine's triangle each output face is.
+  SurfaceMesh extract(std::vector<Vertex>* out_origin, std::vector<Vertex>* out_survivor = nullptr,
+                      std::vector<std::uint32_t>* out_triangle = nullptr) const;
   /// With options.refit_iterations != 0 (and not recording): a third of the area of each
   /// input vertex's triangles as the engine split them (model units², by input vertex index,
   /// sized input_vertices; 0 for a vertex no face uses), the refit's vertex sample weights.

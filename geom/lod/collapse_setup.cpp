@@ -387,8 +387,8 @@ std::vector<Point> CollapseEngine::normalised_positions() const {
   return p;
 }
 
-SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
-                                    std::vector<Vertex>* out_survivor) const {
+SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin, std::vector<Vertex>* out_survivor,
+                                    std::vector<std::uint32_t>* out_triangle) const {
   std::vector<std::uint32_t> index(vd_.size(), kNone);
   std::vector<Point> positions;
   positions.reserve(vd_.size());
@@ -405,6 +405,7 @@ SurfaceMesh CollapseEngine::extract(std::vector<Vertex>* out_origin,
     if (!tri_alive_[t]) continue;
     const auto& tri = triangles_[t];
     kept.push_back({index[tri[0]], index[tri[1]], index[tri[2]]});
+    if (out_triangle) out_triangle->push_back(static_cast<std::uint32_t>(t));
   }
   if (out_survivor && !merged_into_.empty()) {
     // Follow each chain of collapses to its live end, shortening it on the way (halving).

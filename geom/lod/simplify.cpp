@@ -61,6 +61,18 @@ std::vector<detail::RefitLine> seam_lines(const SurfaceMesh& result, const Surfa
   return lines;
 }
 
+// Each output triangle keeps the face properties (group and material names, scalars) of the
+// input face it is part of: the engine's triangles are the faces' fans, in face order.
+void carry_face_properties(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& triangle,
+                           SurfaceMesh& out) {
+  std::vector<std::uint32_t> face_of_triangle;
+  for (Face f : mesh.faces()) face_of_triangle.insert(face_of_triangle.end(), mesh.valence(f) - 2, f.idx());
+  std::vector<std::uint32_t> source(triangle.size());
+  for (std::size_t k = 0; k < triangle.size(); ++k) source[k] = face_of_triangle[triangle[k]];
+  out.props<Face>() = mesh.props<Face>();
+  out.props<Face>().gather(source);
+}
+
 }  // namespace
 
 SimplifyOptions with_present_attributes(const SurfaceMesh& mesh, SimplifyOptions options) {
@@ -93,7 +105,10 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
   result.stop = engine.run(target);
   std::vector<Vertex> survivor;
   if (options.refit_iterations != 0) survivor.assign(mesh.vertices_size(), Vertex());
-  result.mesh = engine.extract(&result.vertex_origin, &survivor);
+  std::vector<std::uint32_t> triangle;
+  const bool face_props = !mesh.property_names<Face>().empty();
+  result.mesh = engine.extract(&result.vertex_origin, &survivor, face_props ? &triangle : nullptr);
+  if (face_props) carry_face_properties(mesh, triangle, result.mesh);
   result.faces_after = engine.n_triangles();
   result.collapses = engine.n_collapses();
   result.max_quadric_error = engine.max_error();

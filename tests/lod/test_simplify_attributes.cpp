@@ -382,8 +382,18 @@ TEST(SimplifyAttributes, RejectsMissingAttributesBadWeightsAndNaNs) {
 TEST(SimplifyAttributes, KeptByDefaultAndWhatIsDroppedIsNamed) {
   SurfaceMesh m = uv_sphere(12, 24);
   m.add_property<Edge, double>(prop::kEdgeSharpness);
+  // Face properties go with the faces: each output face has its input face's value.
+  auto group = m.add_property<Face, std::string>(prop::kFaceGroup);
+  for (Face f : m.faces()) group[f] = m.position(m.to_vertex(m.halfedge(f))).z() > 0 ? "north" : "south";
   EXPECT_EQ(present_attributes(m).names(), (std::vector<std::string>{"normals", "uv"}));
   const SimplifyResult kept = simplify(m, {.ratio = 0.3});
+  const auto out_group = kept.mesh.get_property<Face, std::string>(prop::kFaceGroup);
+  ASSERT_TRUE(out_group);
+  std::size_t north = 0, south = 0;
+  for (Face f : kept.mesh.faces()) north += out_group[f] == "north", south += out_group[f] == "south";
+  EXPECT_EQ(north + south, kept.mesh.n_faces());
+  EXPECT_GT(north, kept.mesh.n_faces() / 4);
+  EXPECT_GT(south, kept.mesh.n_faces() / 4);
   EXPECT_TRUE(kept.mesh.has_property<Halfedge>(prop::kCornerTexCoord));
   EXPECT_TRUE(kept.mesh.has_property<Vertex>(prop::kVertexNormal));
   EXPECT_EQ(kept.dropped_properties, std::vector<std::string>{"e:sharpness"});

@@ -154,3 +154,73 @@ def test_a_command_that_builds_a_mesh_says_what_the_build_changed(run, tmp_path)
     clean = tmp_path / "tetra.obj"
     clean.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n")
     assert run("simplify", clean, "-o", tmp_path / "t.obj", "--ratio", "0.9").stderr == ""
+
+
+# OBJ's names of objects, groups and materials, and its material files.
+NAMED_OBJ = """mtllib shop.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0
+o chair
+g seat
+usemtl oak
+f 1 2 3
+f 1 3 4
+g legs
+usemtl steel
+f 2 5 3
+"""
+NAMES = ["mtllib shop.mtl", "o chair", "g seat", "usemtl oak", "g legs", "usemtl steel"]
+
+
+def obj_names(path):
+    keys = ("mtllib", "o", "g", "usemtl")
+    return [line for line in path.read_text().splitlines() if line.split()[:1] and line.split()[0] in keys]
+
+
+@pytest.mark.parametrize("command", [["convert"], ["convert", "--repair"], ["repair"],
+                                     ["subdivide", "--levels", "1"]])
+def test_obj_groups_materials_and_libraries_come_back_out(run, tmp_path, command):
+    src = tmp_path / "named.obj"
+    src.write_text(NAMED_OBJ)
+    out = tmp_path / "out.obj"
+    r = run(*command[:1], src, out, *command[1:])
+    assert r.returncode == 0, r.stderr
+    assert obj_names(out) == NAMES
+
+
+def test_batch_keeps_obj_names_and_other_formats_say_they_drop_them(run, tmp_path):
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "named.obj").write_text(NAMED_OBJ)
+    for step in ("convert --format obj", "repair"):
+        out = tmp_path / step.split()[0]
+        r = run("batch", folder, out, "--step", step)
+        assert r.returncode == 0, r.stderr
+        assert obj_names(out / "named.obj") == NAMES
+    r = run("convert", folder / "named.obj", tmp_path / "named.ply")
+    assert "face names (1 object, 2 groups, 2 materials) are not stored (ply has no place for them)" in r.stderr
+    assert "material libraries (mtllib shop.mtl) are not stored" in r.stderr
+
+
+def test_repair_keeps_the_uv_seams_of_vertices_it_welds(run, tmp_path):
+    """Two triangles of one quad, each its own UV chart with its own copies of the shared
+    edge's vertices (as PLY and glTF store a seam): welding joins the positions, and the
+    texture coordinates move to the corners rather than being lost."""
+    src = tmp_path / "seam.ply"
+    src.write_text("ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                   "property float z\nproperty float u\nproperty float v\nelement face 2\n"
+                   "property list uchar int vertex_indices\nend_header\n"
+                   "0 0 0 0 0\n1 0 0 .5 0\n1 1 0 .5 .5\n"
+                   "0 0 0 .6 0\n1 1 0 1 .5\n0 1 0 .6 .5\n3 0 1 2\n3 3 4 5\n")
+    r = run("repair", src, tmp_path / "out.obj")
+    assert r.returncode == 0, r.stderr
+    assert "welded vertices: 2" in r.stdout
+    assert "texture coordinates or normals differ (kept per face corner, so the seam stays): 2" in r.stdout
+    out = (tmp_path / "out.obj").read_text().splitlines()
+    assert sum(line.startswith("v ") for line in out) == 4
+    assert sum(line.startswith("vt ") for line in out) == 6
+    r = run("repair", src, tmp_path / "out.ply")
+    assert "texture coordinates per face corner (UV seams) are not stored" in r.stderr
