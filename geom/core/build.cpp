@@ -55,12 +55,13 @@ bool finite(const Point& p) {
 class Builder {
  public:
   Builder(const PolygonSoup& soup, const BuildOptions& options, BuildReport& report)
-      : soup_(soup), opt_(options), rep_(report), strict_(options.policy == RepairPolicy::kStrict) {}
+      : soup_(&soup), opt_(options), rep_(report), strict_(options.policy == RepairPolicy::kStrict) {}
 
   SurfaceMesh run() {
-    check_soup(soup_);
-    nv_ = static_cast<std::uint32_t>(soup_.positions.size());
+    check_soup(*soup_);
+    nv_ = static_cast<std::uint32_t>(soup_->positions.size());
     weld();
+    keep_seams();
     clean_faces();
     pair(opt_.orient);
     if (duplicates_found_) {
@@ -92,11 +93,11 @@ class Builder {
   void weld() {
     if (opt_.weld_tolerance < 0 || nv_ == 0) return;
     Eigen::AlignedBox3d box;
-    for (const Point& p : soup_.positions)
+    for (const Point& p : soup_->positions)
       if (finite(p)) box.extend(p);
     double eps = box.isEmpty() ? 0.0 : opt_.weld_tolerance * box.diagonal().norm();
     if (!std::isfinite(eps)) eps = 0.0;
-    weld_ = weld_map(soup_.positions, eps);
+    weld_ = weld_map(soup_->positions, eps);
     for (std::uint32_t v = 0; v < nv_; ++v) {
       if (weld_[v] == v) continue;
       if (welded_.count < 3) welded_.add("vertex " + s(v) + " into " + s(weld_[v]));
@@ -104,24 +105,39 @@ class Builder {
     }
   }
 
+  // Welding joins vertices whose texture coordinates or normals differ (a seam stored as
+  // split vertices, as PLY and glTF store it): those values move to the face corners, so
+  // that the seam stays. Colours have no corner form: a joined vertex takes its
+  // representative's, which is said.
+  void keep_seams() {
+    if (weld_.empty()) return;
+    const SeamCount n = count_seams(*soup_, weld_);
+    recoloured_.count += n.colors;
+    if (n.texcoords == 0 && n.normals == 0) return;
+    seamed_ = *soup_;
+    seams_to_corners(seamed_, weld_);
+    seams_kept_.count += std::max(n.texcoords, n.normals);
+    soup_ = &seamed_;
+  }
+
   // ---- 1b. face cleaning --------------------------------------------------------------
   void clean_faces() {
-    const std::size_t nf = soup_.n_faces();
-    const std::size_t nc = soup_.face_indices.size();
+    const std::size_t nf = soup_->n_faces();
+    const std::size_t nc = soup_->face_indices.size();
     // Corner origins are needed only to carry per-corner attributes.
-    const bool keep_corig = !soup_.corner_texcoords.empty() || !soup_.corner_normals.empty();
+    const bool keep_corig = !soup_->corner_texcoords.empty() || !soup_->corner_normals.empty();
     offs_.reserve(nf + 1);
     offs_.push_back(0);
     cv_.resize(nc);
     if (keep_corig) corig_.resize(nc);
     forig_.reserve(nf);
     fhash_.reserve(nf);
-    const auto& P = soup_.positions;
-    const std::uint32_t* idx = soup_.face_indices.data();
+    const auto& P = soup_->positions;
+    const std::uint32_t* idx = soup_->face_indices.data();
     std::vector<Point> pts;
     std::uint32_t w = 0;
     for (std::size_t f = 0; f < nf; ++f) {
-      const std::uint32_t b = soup_.face_offsets[f], e = soup_.face_offsets[f + 1];
+      const std::uint32_t b = soup_->face_offsets[f], e = soup_->face_offsets[f + 1];
       bool out_of_range = false;
       for (std::uint32_t c = b; c < e; ++c)
         if (idx[c] >= nv_) {
@@ -181,7 +197,7 @@ class Builder {
 
   bool zero_area(std::span<const std::uint32_t> face, std::vector<Point>& pts) const {
     pts.clear();
-    for (std::uint32_t v : face) pts.push_back(soup_.positions[v]);
+    for (std::uint32_t v : face) pts.push_back(soup_->positions[v]);
     return is_zero_area_polygon(pts);
   }
 
@@ -567,7 +583,7 @@ class Builder {
     mesh.reserve(n_out, n_edges, nf);
     for (std::uint32_t v = 0; v < n_out; ++v) mesh.new_vertex();
     auto& pos = mesh.positions().vector();
-    for (std::uint32_t v = 0; v < n_out; ++v) pos[v] = soup_.positions[rep_.vertex_origin[v]];
+    for (std::uint32_t v = 0; v < n_out; ++v) pos[v] = soup_->positions[rep_.vertex_origin[v]];
 
     // mate_ turns into he_ in place: entries below c already hold halfedges.
     for (std::uint32_t c = 0; c < nc; ++c) {
@@ -631,7 +647,7 @@ class Builder {
     from.corner_halfedge = he_;
     from.groups = &groups_;
     std::vector<std::string> notes;
-    detail::copy_attributes(mesh, soup_, from, notes);
+    detail::copy_attributes(mesh, *soup_, from, notes);
     for (const auto& note : notes) ignored_.add(note);
   }
 
@@ -663,10 +679,13 @@ class Builder {
     put(cut_, opt_.orient ? "edges cut where the surface is not orientable"
                           : "edges left as boundary where neighbouring faces disagree in orientation");
     put(unreferenced_, "dropped unreferenced vertices");
+    put(seams_kept_, "welded vertices whose texture coordinates or normals differ (kept per face corner, so the seam stays)");
+    put(recoloured_, "welded vertices whose colour differs (they take their representative's colour)");
     put(ignored_, "attributes ignored");
   }
 
-  const PolygonSoup& soup_;
+  const PolygonSoup* soup_;
+  PolygonSoup seamed_;  // the input with seam values moved to the corners (keep_seams)
   const BuildOptions& opt_;
   BuildReport& rep_;
   const bool strict_;
@@ -686,7 +705,7 @@ class Builder {
   bool duplicates_found_ = false, any_detached_ = false;
 
   Tally welded_, out_of_range_, degenerate_, duplicate_, collapsed_, nonmanifold_,
-      nonmanifold_vertices_, flipped_, cut_, unreferenced_, ignored_, detached_tally_;
+      nonmanifold_vertices_, flipped_, cut_, unreferenced_, ignored_, detached_tally_, seams_kept_, recoloured_;
 };
 
 }  // namespace

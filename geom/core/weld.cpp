@@ -81,4 +81,37 @@ std::vector<std::uint32_t> weld_map(std::span<const Point> P, double eps) {
   return parent;
 }
 
+namespace {
+
+template <class T>
+std::size_t differing(const std::vector<T>& values, std::span<const std::uint32_t> same) {
+  std::size_t n = 0;
+  if (!values.empty())
+    for (std::size_t v = 0; v < same.size(); ++v) n += same[v] != v && values[v] != values[same[v]];
+  return n;
+}
+
+template <class T>
+void to_corners(const std::vector<std::uint32_t>& face_indices, std::vector<T>& per_vertex,
+                std::vector<T>& per_corner) {
+  per_corner.reserve(face_indices.size());
+  for (std::uint32_t v : face_indices) per_corner.push_back(v < per_vertex.size() ? per_vertex[v] : T::Zero());
+  per_vertex.clear();
+}
+
+}  // namespace
+
+SeamCount count_seams(const PolygonSoup& soup, std::span<const std::uint32_t> same) {
+  return {soup.corner_texcoords.empty() ? differing(soup.vertex_texcoords, same) : 0,
+          soup.corner_normals.empty() ? differing(soup.vertex_normals, same) : 0,
+          differing(soup.vertex_colors, same)};
+}
+
+SeamCount seams_to_corners(PolygonSoup& soup, std::span<const std::uint32_t> same) {
+  const SeamCount n = count_seams(soup, same);
+  if (n.texcoords) to_corners(soup.face_indices, soup.vertex_texcoords, soup.corner_texcoords);
+  if (n.normals) to_corners(soup.face_indices, soup.vertex_normals, soup.corner_normals);
+  return n;
+}
+
 }  // namespace geom

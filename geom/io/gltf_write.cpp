@@ -13,6 +13,7 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <tuple>
 
 namespace geom {
@@ -227,48 +228,86 @@ std::string write_gltf(const GltfDocument& doc, bool binary) {
   return out;
 }
 
+namespace {
+
+// Which attributes a flattened scene keeps: those every instanced mesh has, per corner when
+// some mesh has them per corner (the joined seams of a glTF mesh), else per vertex.
+struct FlatAttributes {
+  bool normals = true, uvs = true, colors = true, corner_normals = false, corner_uvs = false;
+
+  void add(const PolygonSoup& s) {
+    const std::size_t nv = s.positions.size(), nc = s.face_indices.size();
+    normals &= s.vertex_normals.size() == nv || (nc > 0 && s.corner_normals.size() == nc);
+    uvs &= s.vertex_texcoords.size() == nv || (nc > 0 && s.corner_texcoords.size() == nc);
+    colors &= s.vertex_colors.size() == nv;
+    corner_normals |= !s.corner_normals.empty();
+    corner_uvs |= !s.corner_texcoords.empty();
+  }
+};
+
+template <class T>
+const T& at_corner(const std::vector<T>& corner, const std::vector<T>& vertex, const PolygonSoup& s, std::size_t c) {
+  return corner.empty() ? vertex[s.face_indices[c]] : corner[c];
+}
+
+}  // namespace
+
 PolygonSoup flatten(const GltfDocument& doc) {
   PolygonSoup out;
   out.warnings = doc.warnings;
-  bool normals = true, uvs = true, colors = true;
+  FlatAttributes keep;
   std::vector<std::uint8_t> on_path(doc.nodes.size(), 0);
+  std::vector<std::pair<const PolygonSoup*, Eigen::Matrix4d>> instances;
   std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int i, const Eigen::Matrix4d& parent) {
     if (i < 0 || i >= static_cast<int>(doc.nodes.size())) throw InvalidArgument("glTF: missing node " + std::to_string(i));
     if (on_path[i]) throw InvalidArgument("glTF: node " + std::to_string(i) + " is its own ancestor");
     const GltfNode& n = doc.nodes[i];
     const Eigen::Matrix4d world = parent * n.matrix;
     if (n.mesh >= 0) {
-      const PolygonSoup& s = doc.meshes.at(n.mesh);
-      const Eigen::Matrix3d lin = world.block<3, 3>(0, 0), nrm = lin.inverse().transpose();
-      const auto base = static_cast<std::uint32_t>(out.positions.size());
-      for (const Point& p : s.positions) out.positions.push_back(lin * p + world.block<3, 1>(0, 3));
-      normals &= s.vertex_normals.size() == s.positions.size();
-      uvs &= s.vertex_texcoords.size() == s.positions.size();
-      colors &= s.vertex_colors.size() == s.positions.size();
-      if (normals) for (const Normal& v : s.vertex_normals) out.vertex_normals.push_back((nrm * v).normalized());
-      if (uvs) out.vertex_texcoords.insert(out.vertex_texcoords.end(), s.vertex_texcoords.begin(), s.vertex_texcoords.end());
-      if (colors) out.vertex_colors.insert(out.vertex_colors.end(), s.vertex_colors.begin(), s.vertex_colors.end());
-      const bool flip = lin.determinant() < 0;  // a mirror turns the faces inside out
-      for (std::size_t f = 0; f < s.n_faces(); ++f) {
-        std::vector<std::uint32_t> c(s.face(f).begin(), s.face(f).end());
-        for (auto& v : c) v += base;
-        if (flip) std::reverse(c.begin(), c.end());
-        out.add_face(c);
-      }
+      instances.emplace_back(&doc.meshes.at(n.mesh), world);
+      keep.add(*instances.back().first);
     }
     on_path[i] = 1;
     for (int c : n.children) visit(c, world);
     on_path[i] = 0;
   };
   for (int r : doc.roots) visit(r, Eigen::Matrix4d::Identity());
-  auto drop = [&](bool keep, auto& values, const char* what) {
-    if (keep || values.empty()) return;
-    values.clear();
-    out.warnings.push_back(std::string(what) + " not kept: only some of the scene's meshes have them");
+  for (const auto& [mesh, world] : instances) {
+    const PolygonSoup& s = *mesh;
+    const Eigen::Matrix3d lin = world.block<3, 3>(0, 0), nrm = lin.inverse().transpose();
+    const auto base = static_cast<std::uint32_t>(out.positions.size());
+    for (const Point& p : s.positions) out.positions.push_back(lin * p + world.block<3, 1>(0, 3));
+    if (keep.normals && !keep.corner_normals)
+      for (const Normal& v : s.vertex_normals) out.vertex_normals.push_back((nrm * v).normalized());
+    if (keep.uvs && !keep.corner_uvs) out.vertex_texcoords.insert(out.vertex_texcoords.end(), s.vertex_texcoords.begin(), s.vertex_texcoords.end());
+    if (keep.colors) out.vertex_colors.insert(out.vertex_colors.end(), s.vertex_colors.begin(), s.vertex_colors.end());
+    const bool flip = lin.determinant() < 0;  // a mirror turns the faces inside out
+    for (std::size_t f = 0; f < s.n_faces(); ++f) {
+      std::vector<std::uint32_t> corners(s.face_offsets[f + 1] - s.face_offsets[f]);
+      std::iota(corners.begin(), corners.end(), s.face_offsets[f]);
+      if (flip) std::reverse(corners.begin(), corners.end());
+      std::vector<std::uint32_t> c;
+      for (std::uint32_t k : corners) {
+        c.push_back(s.face_indices[k] + base);
+        if (keep.normals && keep.corner_normals)
+          out.corner_normals.push_back((nrm * at_corner(s.corner_normals, s.vertex_normals, s, k)).normalized());
+        if (keep.uvs && keep.corner_uvs) out.corner_texcoords.push_back(at_corner(s.corner_texcoords, s.vertex_texcoords, s, k));
+      }
+      out.add_face(c);
+    }
+  }
+  auto drop = [&](bool kept, bool any, const char* what) {
+    if (!kept && any) out.warnings.push_back(std::string(what) + " not kept: only some of the scene's meshes have them");
   };
-  drop(normals, out.vertex_normals, "normals");
-  drop(uvs, out.vertex_texcoords, "texture coordinates");
-  drop(colors, out.vertex_colors, "colours");
+  bool any_normals = false, any_uvs = false, any_colors = false;
+  for (const auto& [mesh, world] : instances) {
+    any_normals |= !mesh->vertex_normals.empty() || !mesh->corner_normals.empty();
+    any_uvs |= !mesh->vertex_texcoords.empty() || !mesh->corner_texcoords.empty();
+    any_colors |= !mesh->vertex_colors.empty();
+  }
+  drop(keep.normals, any_normals, "normals");
+  drop(keep.uvs, any_uvs, "texture coordinates");
+  drop(keep.colors, any_colors, "colours");
   return out;
 }
 

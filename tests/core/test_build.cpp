@@ -112,6 +112,31 @@ TEST(Build, ExactWeldingMergesDuplicates) {
   EXPECT_EQ(m.position(r.vertex_map[23]), s.positions[23]);
 }
 
+// Each face of the unwelded cube is its own UV chart, as PLY and glTF store one: welding
+// joins the positions and must keep every corner's texture coordinate (the seams).
+TEST(Build, WeldingKeepsTheSeamsOfSplitVertices) {
+  auto s = unwelded_cube(0);
+  const TexCoord square[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (std::size_t v = 0; v < s.positions.size(); ++v) {
+    s.vertex_texcoords.push_back(square[v % 4] * 0.25 + TexCoord(0.25 * (v / 4 % 4), 0.5 * (v / 16)));
+    s.vertex_colors.push_back(Color(v % 4 == 0, 0.5, 0));
+    s.vertex_normals.push_back(Normal(0, 0, 1));  // all equal: no crease to keep
+  }
+  auto [m, r] = build(s, {.weld_tolerance = 0});
+  EXPECT_EQ(m.n_vertices(), 8u);
+  EXPECT_TRUE(mentions(r, "texture coordinates or normals differ (kept per face corner")) << r.messages.back();
+  EXPECT_TRUE(mentions(r, "colour differs"));
+  EXPECT_FALSE(m.has_property<Vertex>(prop::kVertexTexCoord));
+  EXPECT_TRUE(m.has_property<Vertex>(prop::kVertexNormal));
+  EXPECT_FALSE(m.has_property<Halfedge>(prop::kCornerNormal));
+  const PolygonSoup back = to_soup(m);
+  ASSERT_EQ(back.corner_texcoords.size(), s.face_indices.size());
+  for (std::size_t c = 0; c < s.face_indices.size(); ++c)
+    EXPECT_EQ(back.corner_texcoords[c], s.vertex_texcoords[s.face_indices[c]]) << "corner " << c;
+  // Without welding nothing moves to the corners.
+  EXPECT_TRUE(build(s).mesh.has_property<Vertex>(prop::kVertexTexCoord));
+}
+
 TEST(Build, ToleranceWeldingIsRelativeToTheBoundingBox) {
   auto s = unwelded_cube(1e-9);
   EXPECT_EQ(build(s, {.weld_tolerance = 0}).mesh.n_vertices(), 24u);

@@ -82,6 +82,15 @@ TEST(Gltf, CornerTexcoordsSplitVerticesAtSeams) {
   PolygonSoup back = read_gltf(bytes(write_gltf(gltf_from_soup(s), true)), "x").meshes[0];
   EXPECT_EQ(back.positions.size(), 5u);  // vertex 0 split, vertex 2 shared
   EXPECT_EQ(back.n_faces(), 2u);
+  // Flattening a document keeps per-corner values (it used to keep per-vertex ones only),
+  // mirrored instances reversing them with their faces.
+  GltfDocument doc = gltf_from_soup(s);
+  EXPECT_EQ(flatten(doc).corner_texcoords, s.corner_texcoords);
+  doc.nodes[0].matrix.diagonal() << -1, 1, 1, 1;
+  const PolygonSoup mirrored = flatten(doc);
+  EXPECT_EQ(mirrored.face_indices, (std::vector<std::uint32_t>{2, 1, 0, 3, 2, 0}));
+  EXPECT_EQ(mirrored.corner_texcoords[0], s.corner_texcoords[2]);
+  EXPECT_EQ(mirrored.corner_texcoords[5], s.corner_texcoords[3]);
 }
 
 
