@@ -66,15 +66,22 @@ TEST(Chunks, RoundTripAtEveryLevel) {
 TEST(Chunks, RoundTripPolygonsComponentsIsolatedVerticesShuffled) {
   // 14 bits: the dense quad grid's seam vertices need their own grid points (see below).
   const SurfaceMesh m = mixed_big().build();
-  const CompressResult c = compress(m, {.bits = 14, .chunk_triangles = kChunk});
+  const CompressResult c = compress(m, {.bits = 14, .chunk_triangles = kChunk, .keep_corner_order = false});
   EXPECT_EQ(c.stats.chunks, 4u);
-  for (int level : {0, 7}) expect_round_trip(m, {.bits = 14, .level = level, .chunk_triangles = kChunk}, false);
+  for (int level : {0, 7}) expect_round_trip(m, {.bits = 14, .level = level, .chunk_triangles = kChunk, .keep_corner_order = false}, false);
+}
+
+// A chunk has no extension block, so polygons whose first corners are kept (the default)
+// make one stream; keep_corner_order = false lets such a mesh be chunked (as above).
+TEST(Chunks, PolygonsKeepingTheirFirstCornersAreOneStream) {
+  const SurfaceMesh m = mixed_big().build();
+  EXPECT_EQ(compress(m, {.bits = 14, .level = 0, .chunk_triangles = kChunk}).stats.chunks, 1u);
 }
 
 TEST(Chunks, SameGridAndPositionsAsOneStream) {
   const SurfaceMesh m = mixed_big().build();
   const CompressResult one = compress(m, {.bits = 14, .chunk_triangles = 0});
-  const CompressResult many = compress(m, {.bits = 14, .chunk_triangles = kChunk});
+  const CompressResult many = compress(m, {.bits = 14, .chunk_triangles = kChunk, .keep_corner_order = false});
   ASSERT_EQ(one.stats.chunks, 1u);
   ASSERT_GT(many.stats.chunks, 1u);
   EXPECT_EQ(one.stats.step, many.stats.step);
@@ -238,7 +245,7 @@ TEST(Chunks, OneFlatDecoderDecodesStreamAfterStream) {
   const SurfaceMesh big = mixed_big().build();
   const std::vector<std::vector<std::uint8_t>> streams = {
       compress(torus_with_normals(), {.level = 5}).bytes,
-      compress(big, {.bits = 14, .level = 7, .chunk_triangles = kChunk}).bytes,
+      compress(big, {.bits = 14, .level = 7, .chunk_triangles = kChunk, .keep_corner_order = false}).bytes,
       compress(big, {.bits = 14, .level = 9, .chunk_triangles = 0}).bytes,
       compress(torus_with_corner_uvs(), {.level = 7}).bytes,  // then a chunked one
       compress(test::torus(200, 100).build(), {.bits = 14, .level = 1, .chunk_triangles = kChunk}).bytes,

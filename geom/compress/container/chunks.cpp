@@ -571,7 +571,9 @@ std::optional<CompressResult> compress_chunked(const SurfaceMesh& mesh,
   const std::size_t n_tri = flat.table.n_triangles();
   if (options.chunk_triangles == 0 || options.preserve_order ||
       n_tri < 2 * options.chunk_triangles || has_attributes(mesh) ||
-      !options.vertex_origin.empty())  // compress() keeps it only when it joins vertices
+      !options.vertex_origin.empty() ||  // compress() keeps it only when it joins vertices
+      !options.loose_faces.empty() || options.keep_triangle_corners ||
+      (options.keep_corner_order && flat.polygons))  // a chunk has no extension block
     return std::nullopt;
   // A power of two, so that the chunks share 2, 4, 8... cores evenly (3 chunks on 2 cores
   // would wait for the third).

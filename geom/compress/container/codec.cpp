@@ -293,6 +293,20 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
     for (std::uint32_t j = 0; j < nf; ++j) result.face_permutation[j] = j;
   }
 
+  // The block is read before the faces are built: its rotations give their first corners.
+  ExtensionDecoding ext;
+  if (h.flags & kFlagExtension) {
+    ext = decode_extension(bytes, core.extension_at, core.table, core.q, h.flags & kFlagNormals,
+                           h.flags & kFlagTexcoords, rans_lanes(h.flags), nf,
+                           h.flags & kFlagPreserveOrder);
+    if (ext.rotation.min_degree != 0)
+      rotation = decode_rotation(ext.rotation, core.table, polys, rans_lanes(h.flags));
+    result.loose_faces = std::move(ext.loose.faces);
+    for (auto& f : result.loose_faces)
+      for (std::uint32_t& v : f) v = vertex_slot[v];
+    result.loose_face_positions = std::move(ext.loose.positions);
+  }
+
   SurfaceMesh& mesh = result.mesh;
   mesh.reserve(nv, polys.vertex.size() / 2 + nf + 3, nf);
   // vertex_slot is a permutation (checked above), so every vertex is written once, and in
@@ -337,9 +351,7 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes) {
     }
   }
   if (h.flags & kFlagExtension)
-    apply_extension(decode_extension(bytes, core.extension_at, core.table, core.q, h.flags & kFlagNormals,
-                                     h.flags & kFlagTexcoords, rans_lanes(h.flags)),
-                    mesh, core.table, vertex_slot, face_slot, result.attributes,
+    apply_extension(ext, mesh, core.table, vertex_slot, face_slot, result.attributes,
                     result.vertex_representative);
   return result;
 }
@@ -419,7 +431,8 @@ void decode_flat(std::span<const std::uint8_t> bytes, detail::Workspace& ws, Fla
   if (core.h.flags & kFlagExtension)
     ext = decode_extension(bytes, core.extension_at, core.table, core.q,
                            core.h.flags & kFlagNormals, core.h.flags & kFlagTexcoords,
-                           rans_lanes(core.h.flags));
+                           rans_lanes(core.h.flags), static_cast<std::size_t>(core.h.n_faces),
+                           core.h.flags & kFlagPreserveOrder);
   out.positions.clear();  // (so that growing copies nothing)
   out.positions.resize(3 * core.q.size());
   for (std::size_t i = 0; i < core.q.size(); ++i)
@@ -458,7 +471,8 @@ FlatDecode decompress_flat(std::span<const std::uint8_t> bytes) {
 
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
                                 std::size_t n_attributes, std::size_t n_corner_attributes,
-                                std::size_t n_generic_components, std::size_t n_split_copies) {
+                                std::size_t n_generic_components, std::size_t n_split_copies,
+                                std::size_t n_loose_faces, std::size_t n_loose_corners) {
   const std::size_t n_tri = n_corners >= 2 * n_faces ? n_corners - 2 * n_faces : n_corners;
   // Every model symbol costs at most log2(2^15 / kMinFreq) = 10 bits (+ rounding; 11 used);
   // raw fields are at most 31 bits. Per triangle ≤ 12 symbols and 93 raw bits; per vertex
@@ -480,7 +494,7 @@ std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std
   }
   return 128 + conn + geom + order + 6 * 10 + n_attributes * (geom + 26 + 2 * 10) + chunked +
          max_extension_size(n_vertices, 3 * n_tri, n_corner_attributes, n_generic_components,
-                            n_split_copies);
+                            n_split_copies, n_faces, n_loose_faces, n_loose_corners);
 }
 
 }  // namespace geom

@@ -70,6 +70,23 @@ struct CompressOptions {
   /// them and `geom decompress` writes the source's vertex again. Such a mesh is coded as one
   /// stream (no chunks).
   std::vector<std::uint32_t> vertex_origin{};
+  /// Keep the first corner of every face of 4 or more corners (FORMAT.md, extension kind 4):
+  /// a non-planar polygon's fan triangulation, and so its surface, depends on it. false
+  /// gives the smaller stream of before, whose polygons start where the decoder meets them.
+  /// Costs 1.0–1.3 bits per quad (+5–9 % on the quad meshes of bench_compress --corner-order).
+  bool keep_corner_order = true;
+  /// Keep triangles' first corners too (their surface does not depend on it): 1.5–1.6 bits
+  /// per triangle, +20–33 % on triangle meshes.
+  bool keep_triangle_corners = false;
+  /// Faces of the source that the mesh cannot hold (build() dropped them: fewer than 3
+  /// distinct corners, zero area, the vertex set of another face), as corner lists of dense
+  /// mesh vertices: stored (extension kind 5) and returned in DecompressResult::loose_faces.
+  /// compress(const PolygonSoup&) fills it. Such a mesh is coded as one stream (no chunks).
+  std::vector<std::vector<std::uint32_t>> loose_faces{};
+  /// With preserve_order: each loose face's index in the source's face list (ascending;
+  /// the mesh's faces fill the other places in order), so decoding restores the whole list.
+  /// Empty: they follow the mesh's faces.
+  std::vector<std::uint32_t> loose_face_positions{};
 };
 
 /// One attribute of the stream's extension block (per-corner normals and texture
@@ -101,6 +118,14 @@ struct CompressStats {
   int traversal = 0;
   std::size_t chunks = 1;  ///< independent chunks (CompressOptions::chunk_triangles); predictor and traversal are chunk 0's
   std::vector<AttributeStats> attributes;  ///< coded in the extension block
+  std::size_t rotation_bytes = 0;    ///< faces' first corners (keep_corner_order)
+  std::size_t loose_face_bytes = 0;  ///< faces the mesh cannot hold (loose_faces)
+  /// compress(const PolygonSoup&) only: faces of the source kept outside the mesh, faces
+  /// not stored at all (an index beyond the vertices), and vertices split off a
+  /// non-manifold edge or vertex (joined again on decoding).
+  std::size_t loose_faces = 0;
+  std::size_t unstorable_faces = 0;
+  std::size_t split_copies = 0;
   /// Properties of the input that the stream does not hold (decoding will not restore
   /// them): face, edge and other halfedge properties, vertex properties of a type the
   /// codec does not code, and attributes dropped by a bits option of 0.
@@ -130,7 +155,9 @@ struct CompressResult {
 /// attribute_bits above 30, non-finite positions, normals, texture coordinates or
 /// attribute values (naming the vertex, or the halfedge of a corner), a polygon
 /// that cannot be fanned without repeating an existing edge, or a vertex_origin that is not
-/// one entry per vertex or whose equal entries name vertices at different positions.
+/// one entry per vertex or whose equal entries name vertices at different positions, a loose
+/// face naming a vertex beyond the mesh's, or loose_face_positions (preserve_order) that are
+/// not one per loose face, ascending, below the number of faces and loose faces.
 /// Complexity: O(V + F) per configuration tried (1 at level 0, up to 14 at level 9).
 CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options = {});
 
@@ -151,6 +178,11 @@ struct DecompressResult {
   /// gives the source's vertices back (in the source's order when the order was preserved,
   /// since build() numbers the split copies after every source vertex).
   std::vector<std::uint32_t> vertex_representative;
+  /// Faces the mesh cannot hold (CompressOptions::loose_faces: degenerate, zero-area,
+  /// duplicate), corners as mesh vertices; to_soup(DecompressResult) puts them back.
+  std::vector<std::vector<std::uint32_t>> loose_faces;
+  /// With the order preserved: each loose face's index in the source's face list.
+  std::vector<std::uint32_t> loose_face_positions;
 };
 
 /// Decode a stream written by compress().
@@ -164,11 +196,13 @@ DecompressResult decompress(std::span<const std::uint8_t> bytes);
 /// sum of face valences), number of coded per-vertex attributes (normals, texture
 /// coordinates: 0–2), per-corner attributes ("h:normal", "h:texcoord": 0–2) and components
 /// of generic vertex attributes (1 per double, 3 per colour, …) and split copies (vertices
-/// whose CompressOptions::vertex_origin an earlier vertex shares), at any options.
+/// whose CompressOptions::vertex_origin an earlier vertex shares) and loose faces with their
+/// corners (CompressOptions::loose_faces), at any options.
 std::size_t max_compressed_size(std::size_t n_vertices, std::size_t n_faces, std::size_t n_corners,
                                 std::size_t n_attributes = 0, std::size_t n_corner_attributes = 0,
                                 std::size_t n_generic_components = 0,
-                                std::size_t n_split_copies = 0);
+                                std::size_t n_split_copies = 0, std::size_t n_loose_faces = 0,
+                                std::size_t n_loose_corners = 0);
 
 namespace codec {
 /// Decoding into flat arrays only (no SurfaceMesh), for benchmarks and tools that feed a GPU:
@@ -188,7 +222,9 @@ struct FlatDecode {
   std::vector<float> corner_texcoords;
 };
 /// Throws: DecodeError as decompress(). Ignores the order section and, of the extension
-/// block, the generic attributes (the block is still checked whole). A non-manifold source's split vertices are joined again (FORMAT.md,
+/// block, the generic attributes, the face rotations (the triangles are the encoder's fans,
+/// which start at a polygon's first corner whenever they can) and the loose faces (the block
+/// is still checked whole). A non-manifold source's split vertices are joined again (FORMAT.md,
 /// extension kind 3): the arrays hold the source's vertices and triangles, which a
 /// SurfaceMesh cannot.
 FlatDecode decompress_flat(std::span<const std::uint8_t> bytes);

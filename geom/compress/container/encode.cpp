@@ -172,6 +172,22 @@ struct Tail {
   ExtensionEncoding extension;
 };
 
+/// Each decoded polygon's first corner: the place of its input face's first corner in the
+/// rebuilt cycle.
+std::vector<std::uint32_t> rotations(const EncodeInput& in, const Candidate& c,
+                                     const Polygons& polys,
+                                     std::span<const std::uint32_t> face_order) {
+  const std::size_t nv = in.flat.positions.size();
+  std::vector<std::uint32_t> decoded_id(nv);
+  for (std::uint32_t i = 0; i < nv; ++i) decoded_id[c.vertex_order()[i]] = i;
+  std::vector<std::uint32_t> rot(polys.size(), 0);
+  for (std::size_t j = 0; j < polys.size(); ++j) {
+    const std::uint32_t first = decoded_id[in.flat.face_first_vertex[face_order[j]]];
+    while (polys.vertex[polys.offset[j] + rot[j]] != first) ++rot[j];
+  }
+  return rot;
+}
+
 Streams encode_order(const EncodeInput& in, const Candidate& c, const Polygons& polys,
                      std::span<const std::uint32_t> face_order) {
   const std::size_t nv = in.flat.positions.size();
@@ -233,9 +249,16 @@ Tail encode_tail(const EncodeInput& in, const Candidate& c) {
     }
     encode_attribute(c.table(), qa, attributes.uv_grid.bits, tail.uvs.rans, tail.uvs.raw);
   }
+  FaceCorners corners{&polys, {}, in.options.keep_triangle_corners ? 3u : 4u};
+  std::vector<std::uint32_t> rotation;
+  if (!in.options.preserve_order &&
+      (in.options.keep_triangle_corners || (in.options.keep_corner_order && in.flat.polygons))) {
+    rotation = rotations(in, c, polys, tail.face_order);
+    corners.rotation = rotation;
+  }
   tail.extension = encode_extension(in.mesh, in.options, in.flat, c.table(), c.order().corner_origin,
                                     vertex_order, !attributes.normals.empty(),
-                                    !attributes.uvs.empty());
+                                    !attributes.uvs.empty(), corners);
   return tail;
 }
 
@@ -294,6 +317,8 @@ CompressResult write_stream(const EncodeInput& in, const Candidate& c, const Tai
   }
   if (in.options.preserve_order) stats.order_bytes = put(tail.order);
   w.append(tail.extension.bytes);
+  stats.rotation_bytes = tail.extension.rotation_bytes;
+  stats.loose_face_bytes = tail.extension.loose_face_bytes;
   stats.attributes = tail.extension.attributes;
   stats.dropped_properties = tail.extension.dropped;
   result.bytes = std::move(w.bytes());
@@ -541,6 +566,7 @@ CompressResult compress(const SurfaceMesh& mesh, const CompressOptions& options)
   if (!options.vertex_origin.empty() && options.vertex_origin.size() != mesh.n_vertices())
     throw InvalidArgument("compress: vertex_origin has " + std::to_string(options.vertex_origin.size()) +
                           " entries for " + std::to_string(mesh.n_vertices()) + " vertices");
+  check_loose_faces(options, mesh.n_vertices(), mesh.n_faces());
   const FlatMesh flat = flatten(mesh);
   // An origin list that joins nothing is dropped here, so that no candidate groups it again
   // (and the mesh may still be chunked).

@@ -251,7 +251,7 @@ ExtensionEncoding encode_extension(const SurfaceMesh& mesh, const CompressOption
                                    const FlatMesh& flat, const CornerTable& decoded,
                                    std::span<const std::uint32_t> corner_origin,
                                    std::span<const std::uint32_t> vertex_order, bool vertex_normals,
-                                   bool vertex_uvs) {
+                                   bool vertex_uvs, const FaceCorners& corners) {
   if (options.attribute_bits > 30)
     throw InvalidArgument("compress: attribute bits must be in [0, 30], got " +
                           str(options.attribute_bits));
@@ -312,6 +312,19 @@ ExtensionEncoding encode_extension(const SurfaceMesh& mesh, const CompressOption
         return true;
       });
     });
+  }
+  if (corners.polys && !corners.rotation.empty()) {
+    const std::size_t before = body.bytes().size();
+    if (encode_rotation(body, decoded, *corners.polys, corners.rotation, corners.min_degree))
+      ++entries;
+    out.rotation_bytes = body.bytes().size() - before;
+  }
+  if (!options.loose_faces.empty()) {
+    const std::size_t before = body.bytes().size();
+    encode_loose(body, loose_in_decoded_order(options, vertex_order, mesh.n_faces()),
+                 options.preserve_order);
+    ++entries;
+    out.loose_face_bytes = body.bytes().size() - before;
   }
   // Vertices that are one in the source: last, so that the attributes' offsets stay put.
   if (const auto split = split_copies(options.vertex_origin, vertex_order); !split.empty()) {
@@ -478,7 +491,8 @@ std::vector<Halfedge> decoded_corner_halfedges(const SurfaceMesh& mesh, const Co
 
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
                                    const CornerTable& table, std::span<const QPoint> q,
-                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes) {
+                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes,
+                                   std::size_t n_faces, bool order_preserved) {
   const std::size_t n_vertices = q.size();
   ByteReader r(stream);
   r.take(begin);
@@ -487,7 +501,7 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
   const std::uint64_t n = r.varint();
   if (n == 0 || n > r.remaining())
     throw DecodeError(begin, "extension entry count " + str(n) + " impossible");
-  bool seen[2] = {false, false};
+  bool seen[2] = {false, false}, seen_loose = false;
   for (std::uint64_t i = 0; i < n; ++i) {
     const std::size_t at = r.offset();
     const std::uint8_t kind = r.u8();
@@ -513,6 +527,11 @@ ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::si
       out.generic.push_back(std::move(g));
     } else if (kind == kSplit) {
       decode_split_entry(r, at, q, out.split);
+    } else if (kind == kEntryRotation) {
+      if (order_preserved) throw DecodeError(at, "face rotations beside the order section");
+      read_rotation(r, stream, at, out.rotation);
+    } else if (kind == kEntryLooseFaces) {
+      decode_loose(r, at, n_vertices, n_faces, order_preserved, out.loose, seen_loose);
     } else {
       throw DecodeError(at, "unknown extension entry kind " + str(kind));
     }
@@ -599,8 +618,10 @@ bool has_split_vertices(std::span<const std::uint32_t> vertex_origin,
 
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,
                                std::size_t n_corner_attributes, std::size_t n_generic_components,
-                               std::size_t n_split_copies) {
-  if (n_corner_attributes + n_generic_components + n_split_copies == 0) return 0;
+                               std::size_t n_split_copies, std::size_t n_faces,
+                               std::size_t n_loose_faces, std::size_t n_loose_corners) {
+  const std::size_t faces = max_face_entries_size(n_faces, n_loose_faces, n_loose_corners);
+  if (n_corner_attributes + n_generic_components + n_split_copies == 0) return 10 + faces;
   // Split copies: a kind byte, a count and two varints of at most 5 bytes each.
   const std::size_t split = n_split_copies == 0 ? 0 : 6 + 10 * n_split_copies;
   // Every model symbol ≤ 11 bits, raw fields ≤ 29 bits. Per corner: half a seam bit's edge
@@ -614,7 +635,7 @@ std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_co
   // lengths.
   const std::size_t plane = (n_vertices * (6 * 11 + 87) + 7) / 8 + 16;
   const std::size_t generic = plane + 256 + 3 + 16 + 20;
-  return 10 + n_corner_attributes * corner + n_generic_components * generic + split;
+  return 10 + n_corner_attributes * corner + n_generic_components * generic + split + faces;
 }
 
 }  // namespace geom::codec::detail

@@ -6,6 +6,7 @@
 /// coded on the decoded table, so it composes with whatever the core stream holds.
 
 #include <geom/compress/container/codec.h>
+#include <geom/compress/container/face_entries.h>
 #include <geom/compress/container/mesh_tables.h>
 #include <geom/compress/predict.h>
 
@@ -21,6 +22,15 @@ struct ExtensionEncoding {
   std::vector<std::uint8_t> bytes;  ///< empty: nothing to code, no extension block
   std::vector<AttributeStats> attributes;
   std::vector<std::string> dropped;  ///< input properties the stream will not hold
+  std::size_t rotation_bytes = 0, loose_face_bytes = 0;
+};
+
+/// The decoded polygons and each one's first corner (its place in the rebuilt cycle), for
+/// the rotation entry; rotation empty: none is written (the order section holds them).
+struct FaceCorners {
+  const Polygons* polys = nullptr;
+  std::span<const std::uint32_t> rotation;
+  unsigned min_degree = 4;
 };
 
 /// Code the mesh's per-corner and generic vertex attributes for the chosen table.
@@ -33,7 +43,7 @@ ExtensionEncoding encode_extension(const SurfaceMesh& mesh, const CompressOption
                                    const FlatMesh& flat, const CornerTable& decoded,
                                    std::span<const std::uint32_t> corner_origin,
                                    std::span<const std::uint32_t> vertex_order, bool vertex_normals,
-                                   bool vertex_uvs);
+                                   bool vertex_uvs, const FaceCorners& corners = {});
 
 struct DecodedCornerAttribute {
   bool normal = false;       ///< "h:normal", else "h:texcoord"
@@ -59,6 +69,8 @@ struct ExtensionDecoding {
   /// Split vertices: (copy, representative) in decoded numbering, copies ascending, each
   /// representative below its copy and not itself a copy.
   std::vector<std::array<std::uint32_t, 2>> split;
+  RotationEntry rotation;  ///< decoded against the polygons by decode_rotation()
+  LooseFaces loose;
   std::uint64_t offset = 0;  ///< of the block, for errors found when applying it
 };
 
@@ -68,7 +80,8 @@ struct ExtensionDecoding {
 /// trailing bytes.
 ExtensionDecoding decode_extension(std::span<const std::uint8_t> stream, std::size_t begin,
                                    const CornerTable& table, std::span<const QPoint> q,
-                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes);
+                                   bool vertex_normals, bool vertex_uvs, unsigned rans_lanes,
+                                   std::size_t n_faces = 0, bool order_preserved = false);
 
 /// Put the decoded attributes on the rebuilt mesh: decoded vertex i is mesh vertex
 /// vertex_slot[i], decoded polygon j (in order of lowest triangle) is mesh face face_slot[j].
@@ -87,6 +100,7 @@ bool has_split_vertices(std::span<const std::uint32_t> vertex_origin,
 /// Bound on the block's size (see max_compressed_size).
 std::size_t max_extension_size(std::size_t n_vertices, std::size_t n_triangle_corners,
                                std::size_t n_corner_attributes, std::size_t n_generic_components,
-                               std::size_t n_split_copies);
+                               std::size_t n_split_copies, std::size_t n_faces = 0,
+                               std::size_t n_loose_faces = 0, std::size_t n_loose_corners = 0);
 
 }  // namespace geom::codec::detail
