@@ -4,6 +4,7 @@
 #include "common.h"
 
 #include <geom/compress/container/codec.h>
+#include <geom/compress/container/soup_codec.h>
 
 #include <algorithm>
 #include <fstream>
@@ -27,17 +28,6 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
   if (!out) throw Error("cannot write " + path);
 }
 
-/// Loading splits non-manifold edges and vertices apart. The stream then records which
-/// vertices are one (CompressOptions::vertex_origin), so that decompression writes the
-/// source's vertices again; returns how many copies the split made (0: none).
-std::size_t record_split(const BuildReport& report, CompressOptions& options) {
-  if (!report.split_apart()) return 0;
-  options.vertex_origin = report.vertex_origin;
-  std::vector<std::uint32_t> sorted = report.vertex_origin;
-  std::sort(sorted.begin(), sorted.end());
-  return sorted.size() - static_cast<std::size_t>(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
-}
-
 }  // namespace
 
 void add_compress_command(CLI::App& app) {
@@ -48,39 +38,57 @@ void add_compress_command(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = add_command(app, "compress",
-                              "Compress a mesh to a .gmc stream (a non-manifold file too: the "
-                              "vertices loading splits apart are recorded, and decompress joins them)",
+                              "Compress a mesh file to a .gmc stream as given: every face (degenerate "
+                              "and duplicate ones too), each polygon's first corner, and a "
+                              "non-manifold file's vertices come back from decompress",
                               [args] {
     require_extension(args->output, {".gmc"}, "output");
     check_not_input(args->output, {args->input}, args->common);
-    Loaded loaded = load_input(args->input, args->common);
-    const std::size_t copies = record_split(loaded.report, args->options);
-    const CompressResult r = compress(loaded.mesh, args->options);
+    // The file as given: what a half-edge mesh cannot hold travels beside it (soup_codec.h).
+    const PolygonSoup soup = read_input(args->input, args->common);
+    const CompressResult r = compress(soup, args->options);
     write_bytes(args->output, r.bytes);
-    const double nv = std::max<double>(1.0, static_cast<double>(loaded.mesh.n_vertices()));
+    const CompressStats& st = r.stats;
+    const std::size_t n_vertices = soup.positions.size();
+    const std::size_t n_faces = soup.n_faces() - st.unstorable_faces;
+    const double nv = std::max<double>(1.0, static_cast<double>(n_vertices));
     nlohmann::json j = {{"bytes", r.bytes.size()},
-                        {"vertices", loaded.mesh.n_vertices()},
-                        {"faces", loaded.mesh.n_faces()},
+                        {"vertices", n_vertices},
+                        {"faces", n_faces},
                         {"bits_per_vertex", 8.0 * r.bytes.size() / nv},
-                        {"connectivity_bits_per_vertex", 8.0 * r.stats.connectivity_bytes / nv},
-                        {"geometry_bits_per_vertex", 8.0 * r.stats.geometry_bytes / nv},
-                        {"order_bits_per_vertex", 8.0 * r.stats.order_bytes / nv},
-                        {"normal_bits_per_vertex", 8.0 * r.stats.normal_bytes / nv},
-                        {"texcoord_bits_per_vertex", 8.0 * r.stats.texcoord_bytes / nv},
-                        {"texcoord_max_error", r.stats.texcoord_max_error},
-                        {"quantisation_bits", r.stats.bits},
-                        {"chunks", r.stats.chunks},
-                        {"split_vertices", copies},
-                        {"source_vertices", loaded.mesh.n_vertices() - copies},
-                        {"max_error", r.stats.max_error},
-                        {"dropped_properties", r.stats.dropped_properties}};
-    for (const AttributeStats& a : r.stats.attributes)
+                        {"connectivity_bits_per_vertex", 8.0 * st.connectivity_bytes / nv},
+                        {"geometry_bits_per_vertex", 8.0 * st.geometry_bytes / nv},
+                        {"order_bits_per_vertex", 8.0 * st.order_bytes / nv},
+                        {"normal_bits_per_vertex", 8.0 * st.normal_bytes / nv},
+                        {"texcoord_bits_per_vertex", 8.0 * st.texcoord_bytes / nv},
+                        {"texcoord_max_error", st.texcoord_max_error},
+                        {"rotation_bytes", st.rotation_bytes},
+                        {"loose_faces", st.loose_faces},
+                        {"loose_face_bytes", st.loose_face_bytes},
+                        {"unstored_faces", st.unstorable_faces},
+                        {"quantisation_bits", st.bits},
+                        {"chunks", st.chunks},
+                        {"split_vertices", st.split_copies},
+                        {"source_vertices", n_vertices},
+                        {"max_error", st.max_error},
+                        {"dropped_properties", st.dropped_properties}};
+    for (const AttributeStats& a : st.attributes)
       j["attributes"][a.name] = {{"bytes", a.bytes},
                                  {"bits_per_vertex", 8.0 * a.bytes / nv},
                                  {"max_error", a.max_error}};
-    if (copies > 0 && !args->common.quiet)
-      std::cerr << "geom compress: non-manifold input: coded as a manifold mesh with " << copies
-                << " vertices split apart; geom decompress joins them again\n";
+    if (!args->common.quiet) {
+      if (st.split_copies > 0)
+        std::cerr << "geom compress: non-manifold input: coded as a manifold mesh with "
+                  << st.split_copies << " vertices split apart; geom decompress joins them again\n";
+      if (st.loose_faces > 0)
+        std::cerr << "geom compress: " << st.loose_faces
+                  << " faces a mesh cannot hold (degenerate, zero-area or duplicate) stored beside "
+                     "it; geom decompress writes them back\n";
+      if (st.unstorable_faces > 0)
+        std::cerr << "geom compress: warning: " << st.unstorable_faces
+                  << " faces name a vertex beyond the file's " << n_vertices
+                  << ": not stored, decompression will not restore them\n";
+    }
     // Properties the stream cannot hold must not vanish unnoticed.
     if (!r.stats.dropped_properties.empty() && !args->common.quiet) {
       std::string names;
@@ -104,10 +112,15 @@ void add_compress_command(CLI::App& app) {
       ->check(CLI::Range(0, 9));
   cmd->add_flag("--preserve-order", args->options.preserve_order,
                 "Keep vertex and face order exactly (larger)");
+  cmd->add_flag("!--any-corner-order", args->options.keep_corner_order,
+                "Let polygons of 4+ corners start at another corner (smaller; a non-planar "
+                "polygon's fan triangulation then changes)");
+  cmd->add_flag("--keep-triangle-corners", args->options.keep_triangle_corners,
+                "Keep triangles' first corners too (larger; their surface does not depend on it)");
   cmd->add_option("--chunk-triangles", args->options.chunk_triangles,
                   "Split meshes of at least twice this many triangles into chunks that decode in "
                   "parallel (0: one stream; else at least 16384; positions-only meshes without "
-                  "preserved order or non-manifold vertices)")
+                  "preserved order, non-manifold vertices, loose faces or kept polygon corners)")
       ->capture_default_str();
   cmd->add_option("--normal-bits", args->options.normal_bits,
                   "Octahedral bits per normal coordinate, per vertex or corner (2-20; 0 drops normals)")
@@ -129,18 +142,18 @@ void add_decompress_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = add_command(app, "decompress", "Decompress a .gmc stream to a mesh file", [args] {
     const DecompressResult r = decompress(read_bytes(args->input));
-    // A stream of a non-manifold source: its split vertices are written as one again.
-    PolygonSoup soup = to_soup(r.mesh);
-    if (!r.vertex_representative.empty()) join_vertices(soup, r.vertex_representative);
+    // The source as it was: its loose faces back, its split vertices joined.
+    const PolygonSoup soup = to_soup(r);
     write_output(soup, {args->input}, args->common, {}, args->output);
     nlohmann::json j = {{"vertices", soup.positions.size()},
-                        {"faces", r.mesh.n_faces()},
+                        {"faces", soup.n_faces()},
+                        {"loose_faces", r.loose_faces.size()},
                         {"joined_vertices", r.mesh.n_vertices() - soup.positions.size()},
                         {"order_preserved", r.order_preserved},
                         {"max_error", r.max_error}};
     report(args->common, j,
            "decoded " + std::to_string(soup.positions.size()) + " vertices, " +
-               std::to_string(r.mesh.n_faces()) + " faces");
+               std::to_string(soup.n_faces()) + " faces");
     return 0;
   });
   cmd->add_option("input", args->input, "Compressed stream (.gmc)")->required();

@@ -51,7 +51,11 @@ void bind_compress(py::module_& m) {
       .def_readwrite("texcoord_bits", &CompressOptions::texcoord_bits)
       .def_readwrite("attribute_bits", &CompressOptions::attribute_bits)
       .def_readwrite("chunk_triangles", &CompressOptions::chunk_triangles)
-      .def_readwrite("vertex_origin", &CompressOptions::vertex_origin);
+      .def_readwrite("vertex_origin", &CompressOptions::vertex_origin)
+      .def_readwrite("keep_corner_order", &CompressOptions::keep_corner_order)
+      .def_readwrite("keep_triangle_corners", &CompressOptions::keep_triangle_corners)
+      .def_readwrite("loose_faces", &CompressOptions::loose_faces)
+      .def_readwrite("loose_face_positions", &CompressOptions::loose_face_positions);
   py::class_<AttributeStats>(m, "AttributeStats")
       .def_readonly("name", &AttributeStats::name)
       .def_readonly("bytes", &AttributeStats::bytes)
@@ -74,6 +78,8 @@ void bind_compress(py::module_& m) {
       .def_readonly("predictor", &CompressStats::predictor)
       .def_readonly("traversal", &CompressStats::traversal)
       .def_readonly("chunks", &CompressStats::chunks)
+      .def_readonly("rotation_bytes", &CompressStats::rotation_bytes)
+      .def_readonly("loose_face_bytes", &CompressStats::loose_face_bytes)
       .def_readonly("attributes", &CompressStats::attributes)
       .def_readonly("dropped_properties", &CompressStats::dropped_properties);
   py::class_<CompressResult>(m, "CompressResult")
@@ -95,7 +101,9 @@ void bind_compress(py::module_& m) {
       .def_readonly("attributes", &DecompressResult::attributes)
       .def_property_readonly("vertex_representative", [](const DecompressResult& r) {
         return index_array(r.vertex_representative);
-      });
+      })
+      .def_readonly("loose_faces", &DecompressResult::loose_faces)
+      .def_readonly("loose_face_positions", &DecompressResult::loose_face_positions);
   m.def(
       "compress",
       [](const SurfaceMesh& mesh, const CompressOptions& options) {

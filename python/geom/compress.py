@@ -27,7 +27,8 @@ DecodedArrays.__doc__ = "What decompress_arrays() returns (numpy arrays; see the
 
 def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
              normal_bits=10, texcoord_bits=12, attribute_bits=12, chunk_triangles=131072,
-             vertex_origin=None, return_permutation=False, return_stats=False):
+             vertex_origin=None, keep_corner_order=True, keep_triangle_corners=False,
+             loose_faces=None, return_permutation=False, return_stats=False):
     """Compress ``mesh`` (triangles and polygons, any number of components, boundaries and
     handles) to .gmc bytes.
 
@@ -51,6 +52,13 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     ``load_with_report(path).report.vertex_origin``) marks the vertices that loading split
     off a non-manifold edge or vertex: the stream records them as one, and
     ``decompress(data, return_representative=True)`` joins them again.
+    ``keep_corner_order`` (default True) keeps every polygon's first corner (faces of 4 or
+    more corners: a non-planar polygon's fan triangulation, and so its surface, depends on
+    it); False gives the smaller stream of before. ``keep_triangle_corners`` keeps
+    triangles' first corners too (their surface does not depend on it; off by default).
+    ``loose_faces`` (a list of corner lists over the mesh's vertices) stores faces the mesh
+    cannot hold — degenerate, zero-area or duplicate ones that loading dropped — and
+    ``decompress(data, return_loose_faces=True)`` returns them.
 
     Returns the bytes, or ``(bytes, Permutation)`` with ``return_permutation=True`` — the
     permutation is the only way to map decoded elements back to the input when the order
@@ -59,7 +67,11 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     """
     options = {"bits": bits, "level": level, "preserve_order": preserve_order,
                "normal_bits": normal_bits, "texcoord_bits": texcoord_bits,
-               "attribute_bits": attribute_bits, "chunk_triangles": chunk_triangles}
+               "attribute_bits": attribute_bits, "chunk_triangles": chunk_triangles,
+               "keep_corner_order": keep_corner_order,
+               "keep_triangle_corners": keep_triangle_corners}
+    if loose_faces is not None:
+        options["loose_faces"] = [[int(v) for v in f] for f in loose_faces]
     if vertex_origin is not None:
         options["vertex_origin"] = [int(v) for v in np.asarray(vertex_origin).ravel()]
     if precision is not None:
@@ -75,7 +87,7 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     return out if len(out) > 1 else out[0]
 
 
-def decompress(data, return_representative=False):
+def decompress(data, return_representative=False, return_loose_faces=False):
     """Decode .gmc bytes written by compress().
 
     Returns ``(mesh, permutation)``: ``permutation`` is a Permutation (the identity) when the
@@ -87,6 +99,9 @@ def decompress(data, return_representative=False):
     that is the same source vertex (``representative[mesh.faces]`` are the source's faces;
     the vertices ``v`` with ``representative[v] == v`` its vertices), else None.
 
+    With ``return_loose_faces=True`` a last item: the faces stored beside the mesh
+    (``compress(loose_faces=...)``), a list of corner lists over the mesh's vertices.
+
     Raises geom.DecodeError (a ValueError) naming the byte offset for data that is not a
     .gmc stream, of an unsupported version, truncated or corrupted.
     """
@@ -94,10 +109,13 @@ def decompress(data, return_representative=False):
     perm = None
     if result.order_preserved:
         perm = Permutation(result.vertex_permutation, result.face_permutation)
-    if not return_representative:
-        return result.mesh, perm
-    rep = result.vertex_representative
-    return result.mesh, perm, (rep if len(rep) else None)
+    out = (result.mesh, perm)
+    if return_representative:
+        rep = result.vertex_representative
+        out += (rep if len(rep) else None,)
+    if return_loose_faces:
+        out += (result.loose_faces,)
+    return out
 
 
 def decompress_arrays(data):

@@ -354,3 +354,39 @@ def test_decompress_arrays_return_normals_and_texcoords(tmp_path):
     assert np.arccos(cos).max() <= 4.5 / 2 ** 12 + 1e-6  # + float32 rounding
     uv_bound = 0.5 * (uv.max(axis=0) - uv.min(axis=0)).max() / (2 ** 12 - 1)
     assert np.abs(arrays.texcoords - uv[perm.vertices]).max() <= uv_bound + 1e-6
+
+
+def test_polygons_keep_their_first_corner_by_default():
+    mesh = quad_grid(8)
+    data, perm, stats = geom.compress(mesh, bits=14, return_permutation=True, return_stats=True)
+    assert stats.rotation_bytes > 0
+    out, _ = geom.decompress(data)
+    f_in, f_out = np.asarray(mesh.faces), np.asarray(out.faces)
+    for f in range(len(f_out)):  # the same corners from the same first corner
+        assert list(perm.vertices[f_out[f]]) == list(f_in[perm.faces[f]])
+    small = geom.compress(mesh, bits=14, keep_corner_order=False)
+    assert len(small) < len(data)
+
+
+def test_loose_faces_travel_beside_the_mesh():
+    mesh = quad_grid(3)
+    loose = [[0, 0, 1], [0, 1, 2]]  # a repeated index; three collinear corners
+    data, perm = geom.compress(mesh, loose_faces=loose, return_permutation=True)
+    out, _, back = geom.decompress(data, return_loose_faces=True)
+    assert [list(perm.vertices[f]) for f in back] == loose
+
+
+def test_cli_writes_back_degenerate_and_duplicate_faces(run, tmp_path):
+    src, gmc, back = tmp_path / "bad.obj", tmp_path / "bad.gmc", tmp_path / "back.obj"
+    src.write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0.5\nv 1 1 0\nv 2 1 0.3\n"
+                   "f 1 2 5 4\nf 2 3 6 5\nf 1 1 2\nf 1 2 3\nf 4 5 2 1\n")
+    r = run("compress", src, gmc, "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["loose_faces"] == 3
+    r = run("decompress", gmc, back, "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["faces"] == 5
+    _, faces = read_obj(back)
+    assert sorted(len(f) for f in faces) == [3, 3, 4, 4, 4]
+    r = run("compress", "--help")
+    assert "--any-corner-order" in r.stdout
