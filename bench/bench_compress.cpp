@@ -22,6 +22,9 @@
 //   NAME (the synthetic one is "...-sub-flip-shuffled"); --no-sweep: skip the bits sweep;
 //   --save-streams: write each geom stream of the main table to DIR/<mesh> <codec>.gmc, so
 //   that a decoder change can be timed and profiled on exactly these bytes.
+// --corner-order prints only what keeping the source's faces' first corners costs (bytes and
+// bits per polygon / triangle against keep_corner_order = false), in
+// bench-out/compress_corner_order.csv.
 // A third table compares the cost of per-corner texture coordinates with seams (real textured
 // meshes from GEOM_DATA_DIR) against Draco's, in bench-out/compress_texcoords.csv.
 // Writes bench-out/compress.csv and bench-out/compress_bits.csv; the accuracy chart (one
@@ -33,6 +36,7 @@
 #include "support/harness.h"
 
 #include <geom/compress/container/codec.h>
+#include <geom/compress/container/soup_codec.h>
 #include <geom/core/soup.h>
 #include <geom/io/io.h>
 
@@ -361,10 +365,46 @@ void texcoord_table(const std::filesystem::path& dir, unsigned bits, const std::
 
 }  // namespace
 
+/// What keeping the source's faces as given costs (positions only, so the figures are the
+/// core stream's): polygons' first corners (the default) against the old stream
+/// (keep_corner_order off), and triangles' first corners on request.
+void corner_order_table(const std::filesystem::path& dir, unsigned bits) {
+  Table t({"mesh", "faces", "polygons", "old_bytes", "bytes", "extra_bytes", "extra_%",
+           "bits/polygon", "+tri_corners_bytes", "bits/triangle"});
+  for (const char* name : {"spot_quadrangulated.obj", "fandisk_quads.off", "horse_quad.obj",
+                           "beast.obj", "suzanne.obj", "cylinder.obj", "spot_triangulated.obj",
+                           "fandisk.off", "bunny_closed.off", "stanford-bunny.obj", "nefertiti.obj"}) {
+    PolygonSoup soup;
+    try {
+      const PolygonSoup file = read_soup(dir / name);
+      soup.positions = file.positions;
+      soup.face_offsets = file.face_offsets;
+      soup.face_indices = file.face_indices;
+    } catch (const std::exception& e) {
+      std::cerr << "skip " << name << ": " << e.what() << '\n';
+      continue;
+    }
+    std::size_t polygons = 0, triangles = 0;
+    for (std::size_t f = 0; f < soup.n_faces(); ++f)
+      (soup.face(f).size() > 3 ? polygons : triangles) += 1;
+    const std::size_t old = compress(soup, {.bits = bits, .keep_corner_order = false}).bytes.size();
+    const std::size_t now = compress(soup, {.bits = bits}).bytes.size();
+    const std::size_t all =
+        compress(soup, {.bits = bits, .keep_triangle_corners = true}).bytes.size();
+    auto per = [](std::size_t bytes, std::size_t n) { return n ? fmt(8.0 * double(bytes) / double(n), 3) : std::string("-"); };
+    t.add({name, std::to_string(soup.n_faces()), std::to_string(polygons), std::to_string(old),
+           std::to_string(now), std::to_string(now - old), fmt(100.0 * double(now - old) / double(old), 3),
+           per(now - old, polygons), std::to_string(all - now), per(all - now, triangles)});
+  }
+  t.print();
+  t.write_csv(out_dir() / "compress_corner_order.csv");
+}
+
 int main(int argc, char** argv) {
-  bool quick = false, sweep_bits = true;
+  bool quick = false, sweep_bits = true, corner_order = false;
   std::string only;
-  const char* const usage = "usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR]";
+  const char* const usage =
+      "usage: bench_compress [--quick] [--only NAME] [--no-sweep] [--save-streams DIR] [--corner-order]";
   if (wants_help(argc, argv, usage)) return 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -372,6 +412,7 @@ int main(int argc, char** argv) {
     else if (a == "--no-sweep") sweep_bits = false;
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--save-streams" && i + 1 < argc) save_streams = argv[++i];
+    else if (a == "--corner-order") corner_order = true;
     else {
       std::cerr << usage << "\n";
       return 2;
@@ -380,6 +421,10 @@ int main(int argc, char** argv) {
   const unsigned bits = 11;
   std::vector<Flat> meshes;
   const auto dir = data_dir();
+  if (corner_order) {
+    if (dir) corner_order_table(*dir, bits);
+    return 0;
+  }
   Flat bunny;
   if (dir) {
     for (const char* name : {"nefertiti.obj", "armadillo.obj", "stanford-bunny.obj", "bunny_closed.off"}) {
