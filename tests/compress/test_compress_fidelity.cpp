@@ -198,6 +198,31 @@ TEST(CompressFidelity, CorruptRotationDegreeIsRefused) {
   EXPECT_THROW(decompress(b), DecodeError);
 }
 
+TEST(CompressFidelity, DamagedRotationsNeverCrash) {
+  // Quads and pentagons, so that every rotation model is used.
+  PolygonSoup in = wavy_grid(8, 1.0);
+  in.positions.push_back({20, 0, 0});
+  in.positions.push_back({21, 0, 0});
+  in.positions.push_back({21.5, 1, 0});
+  in.positions.push_back({21, 2, 0.5});
+  in.positions.push_back({20, 2, 0});
+  in.add_face({81, 82, 83, 84, 85});
+  const CompressResult r = compress(in, {.keep_triangle_corners = true});
+  ASSERT_GT(r.stats.rotation_bytes, 0u);
+  std::size_t refused = 0;
+  for (std::size_t i = r.bytes.size() - r.stats.rotation_bytes; i < r.bytes.size(); ++i)
+    for (std::uint8_t flip : {0x01, 0x10, 0xff}) {
+      std::vector<std::uint8_t> b = r.bytes;
+      b[i] ^= flip;
+      try {
+        decompress(b);
+      } catch (const DecodeError&) {
+        ++refused;
+      }
+    }
+  EXPECT_GT(refused, 0u);
+}
+
 TEST(CompressFidelity, LooseFacesBeyondTheVerticesThrow) {
   const SurfaceMesh m = build(wavy_grid(3, 0.2)).mesh;
   EXPECT_THROW(compress(m, {.loose_faces = {{0, 1, 16}}}), InvalidArgument);

@@ -89,7 +89,8 @@ std::vector<std::uint32_t> diagonal_counts(const CornerTable& table, const Polyg
       for (std::uint32_t c = 3 * tris[i]; c < 3 * tris[i] + 3; ++c) {
         if (!table.diagonal[c]) continue;
         for (std::uint32_t v : {table.vertex[next_corner(c)], table.vertex[prev_corner(c)]})
-          ++count[b + place[v]];
+          if (v < top && place[v] < k && polys.vertex[b + place[v]] == v)  // (a corrupt table)
+            ++count[b + place[v]];
       }
   }
   return count;

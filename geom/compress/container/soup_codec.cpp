@@ -11,21 +11,28 @@ namespace {
 
 enum class FaceFate : std::uint8_t { kBuild, kLoose, kUnstorable };
 
-bool repeats_a_vertex(std::span<const std::uint32_t> f) {
-  std::vector<std::uint32_t> s(f.begin(), f.end());
-  std::sort(s.begin(), s.end());
-  return std::adjacent_find(s.begin(), s.end()) != s.end();
+bool repeats_a_vertex(std::span<const std::uint32_t> f, std::vector<std::uint32_t>& scratch) {
+  if (f.size() <= 8) {  // most faces: no allocation
+    for (std::size_t i = 0; i < f.size(); ++i)
+      for (std::size_t j = i + 1; j < f.size(); ++j)
+        if (f[i] == f[j]) return true;
+    return false;
+  }
+  scratch.assign(f.begin(), f.end());
+  std::sort(scratch.begin(), scratch.end());
+  return std::adjacent_find(scratch.begin(), scratch.end()) != scratch.end();
 }
 
 /// Faces with an index beyond the vertices cannot be stored; faces with a repeated index
 /// go around build(), which would drop them or lose the repeated corner.
 std::vector<FaceFate> sort_faces(const PolygonSoup& soup) {
   std::vector<FaceFate> fate(soup.n_faces(), FaceFate::kBuild);
+  std::vector<std::uint32_t> scratch;
   for (std::size_t f = 0; f < fate.size(); ++f) {
     const auto c = soup.face(f);
     if (std::any_of(c.begin(), c.end(), [&](std::uint32_t v) { return v >= soup.positions.size(); }))
       fate[f] = FaceFate::kUnstorable;
-    else if (repeats_a_vertex(c))
+    else if (repeats_a_vertex(c, scratch))
       fate[f] = FaceFate::kLoose;
   }
   return fate;
