@@ -109,6 +109,8 @@ TEST(CompressFidelity, KeepsDegenerateZeroAreaDuplicateAndFlippedFaces) {
   ASSERT_EQ(out.positions.size(), in.positions.size());
   const auto m = match_vertices(in, out);
   EXPECT_EQ(sorted(rotate_triangles(faces_of(out, m))), sorted(rotate_triangles(faces_of(in))));
+  // The flat path checks the new entries and returns the mesh's triangles.
+  EXPECT_EQ(codec::decompress_flat(r.bytes).triangles.size(), 3u * 2 * 36);  // the 36 quads
 }
 
 TEST(CompressFidelity, PreservedOrderGivesTheSoupBack) {
