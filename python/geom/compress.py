@@ -46,7 +46,8 @@ def compress(mesh, bits=11, level=7, preserve_order=False, precision=None,
     back under their names. Face and edge properties are not stored:
     ``return_stats=True`` appends the CompressStats, whose ``dropped_properties`` names them.
     Meshes of at least ``2 * chunk_triangles`` triangles (positions only, order not
-    preserved, no split vertices) are split into spatial chunks that encode and decode on every core, about 2.5 %
+    preserved, no split vertices or loose faces, no polygons unless
+    ``keep_corner_order=False``) are split into spatial chunks that encode and decode on every core, about 2.5 %
     larger than one stream (``stats.chunks`` says how many); 0 keeps one stream, other
     values must be at least 16384. ``vertex_origin`` (one source vertex index per vertex, as
     ``load_with_report(path).report.vertex_origin``) marks the vertices that loading split

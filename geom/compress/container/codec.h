@@ -60,8 +60,10 @@ struct CompressOptions {
   /// faster on 2 cores (interleaved runs: median 58.0 -> 56.8 ms; finer parts share the cores
   /// more evenly), leaves work for 8 cores rather than 4, and gives meshes of 262k–524k
   /// triangles two chunks instead of one stream.
-  /// Not with preserve_order, vertex attributes, per-corner attributes or split vertices
-  /// (vertex_origin; those meshes are coded as one stream). 0: never; else at least 16384.
+  /// Not with preserve_order, vertex attributes, per-corner attributes, split vertices
+  /// (vertex_origin), loose faces, or polygons whose first corners are kept
+  /// (keep_corner_order, the default; a chunk has no extension block): those meshes are
+  /// coded as one stream. 0: never; else at least 16384.
   std::size_t chunk_triangles = 131072;
   /// Empty, or one entry per vertex (dense order): the source vertex each came from, as
   /// BuildReport::vertex_origin gives it. Vertices with equal entries are one vertex of the
