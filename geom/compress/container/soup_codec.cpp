@@ -47,6 +47,7 @@ PolygonSoup faces_to_build(const PolygonSoup& soup, std::span<const FaceFate> fa
   out.corner_texcoords.clear();
   out.corner_normals.clear();
   for (NamedScalars& s : out.face_scalars) s.values.clear();
+  for (FaceNames* names : {&out.face_objects, &out.face_groups, &out.face_materials}) names->of_face.clear();
   for (std::uint32_t f = 0; f < fate.size(); ++f) {
     if (fate[f] != FaceFate::kBuild) continue;
     origin.push_back(f);
@@ -57,6 +58,9 @@ PolygonSoup faces_to_build(const PolygonSoup& soup, std::span<const FaceFate> fa
     }
     for (std::size_t k = 0; k < soup.face_scalars.size(); ++k)
       out.face_scalars[k].values.push_back(soup.face_scalars[k].values[f]);
+    for (auto [from, to] : {std::pair{&soup.face_objects, &out.face_objects}, std::pair{&soup.face_groups, &out.face_groups},
+                            std::pair{&soup.face_materials, &out.face_materials}})
+      if (!from->empty()) to->of_face.push_back(from->of_face[f]);
   }
   return out;
 }
