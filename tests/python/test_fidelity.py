@@ -224,3 +224,15 @@ def test_repair_keeps_the_uv_seams_of_vertices_it_welds(run, tmp_path):
     assert sum(line.startswith("vt ") for line in out) == 6
     r = run("repair", src, tmp_path / "out.ply")
     assert "texture coordinates per face corner (UV seams) are not stored" in r.stderr
+
+
+def test_compress_keeps_every_face_of_a_named_obj_with_a_degenerate_face(run, tmp_path):
+    src = tmp_path / "named.obj"
+    src.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\ng a\nf 1 2 3\nf 1 1 2\ng b\nf 2 4 3\n")
+    r = run("compress", src, tmp_path / "n.gmc")
+    assert r.returncode == 0, r.stderr
+    assert "1 faces a mesh cannot hold" in r.stderr and "not stored" in r.stderr and "f:group name" in r.stderr
+    r = run("decompress", tmp_path / "n.gmc", tmp_path / "back.obj")
+    assert r.returncode == 0, r.stderr
+    faces = sorted(line for line in (tmp_path / "back.obj").read_text().splitlines() if line.startswith("f "))
+    assert faces == ["f 1 1 2", "f 1 2 3", "f 3 2 4"]
