@@ -90,11 +90,8 @@ void add_compress_command(CLI::App& app) {
                   << ": not stored, decompression will not restore them\n";
     }
     // Properties the stream cannot hold must not vanish unnoticed.
-    if (!r.stats.dropped_properties.empty() && !args->common.quiet) {
-      std::string names;
-      for (const std::string& n : r.stats.dropped_properties) names += (names.empty() ? "" : ", ") + n;
-      std::cerr << "geom compress: warning: not stored, decompression will not restore: " << names << '\n';
-    }
+    warn_not_carried("compress", r.stats.dropped_properties, args->common,
+                     "not stored, decompression will not restore");
     report(args->common, j,
            "wrote " + std::to_string(r.bytes.size()) + " bytes (" +
                std::to_string(8.0 * r.bytes.size() / nv) + " bits/vertex, max error " +

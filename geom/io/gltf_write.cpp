@@ -234,6 +234,7 @@ namespace {
 // some mesh has them per corner (the joined seams of a glTF mesh), else per vertex.
 struct FlatAttributes {
   bool normals = true, uvs = true, colors = true, corner_normals = false, corner_uvs = false;
+  bool any_normals = false, any_uvs = false, any_colors = false;  // some mesh has them
 
   void add(const PolygonSoup& s) {
     const std::size_t nv = s.positions.size(), nc = s.face_indices.size();
@@ -242,6 +243,9 @@ struct FlatAttributes {
     colors &= s.vertex_colors.size() == nv;
     corner_normals |= !s.corner_normals.empty();
     corner_uvs |= !s.corner_texcoords.empty();
+    any_normals |= !s.vertex_normals.empty() || corner_normals;
+    any_uvs |= !s.vertex_texcoords.empty() || corner_uvs;
+    any_colors |= !s.vertex_colors.empty();
   }
 };
 
@@ -299,15 +303,9 @@ PolygonSoup flatten(const GltfDocument& doc) {
   auto drop = [&](bool kept, bool any, const char* what) {
     if (!kept && any) out.warnings.push_back(std::string(what) + " not kept: only some of the scene's meshes have them");
   };
-  bool any_normals = false, any_uvs = false, any_colors = false;
-  for (const auto& [mesh, world] : instances) {
-    any_normals |= !mesh->vertex_normals.empty() || !mesh->corner_normals.empty();
-    any_uvs |= !mesh->vertex_texcoords.empty() || !mesh->corner_texcoords.empty();
-    any_colors |= !mesh->vertex_colors.empty();
-  }
-  drop(keep.normals, any_normals, "normals");
-  drop(keep.uvs, any_uvs, "texture coordinates");
-  drop(keep.colors, any_colors, "colours");
+  drop(keep.normals, keep.any_normals, "normals");
+  drop(keep.uvs, keep.any_uvs, "texture coordinates");
+  drop(keep.colors, keep.any_colors, "colours");
   return out;
 }
 

@@ -51,10 +51,10 @@ std::vector<LodLevel> from_chained(const SurfaceMesh& mesh, const LodChainOption
   double f0 = 0;
   for (std::size_t i : order) {
     SimplifyOptions so = options.simplify;
-    so.ratio = 0;
-    so.target_faces = std::max<std::size_t>(
-        1, static_cast<std::size_t>(std::llround(options.ratios[i] * f0)));
-    if (finer == &mesh) so.ratio = options.ratios[i], so.target_faces = 0;
+    so.ratio = options.ratios[i];  // the first level: of the input, whose count it reports
+    so.target_faces = 0;
+    if (finer != &mesh)
+      so.target_faces = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(options.ratios[i] * f0)));
     SimplifyResult r = simplify(*finer, so);
     if (finer == &mesh) f0 = static_cast<double>(r.faces_before);
     levels[i] = LodLevel{.mesh = std::move(r.mesh), .ratio = options.ratios[i]};

@@ -75,10 +75,10 @@ struct CompressOptions {
   /// Keep the first corner of every face of 4 or more corners (FORMAT.md, extension kind 4):
   /// a non-planar polygon's fan triangulation, and so its surface, depends on it. false
   /// gives the smaller stream of before, whose polygons start where the decoder meets them.
-  /// Costs 1.0–1.3 bits per quad (+5–9 % on the quad meshes of bench_compress --corner-order).
+  /// Its cost per polygon is what `bench_compress --corner-order` prints.
   bool keep_corner_order = true;
-  /// Keep triangles' first corners too (their surface does not depend on it): 1.5–1.6 bits
-  /// per triangle, +20–33 % on triangle meshes.
+  /// Keep triangles' first corners too. Off by default: a triangle's surface does not depend
+  /// on it, and it costs far more per triangle than a polygon's (bench_compress --corner-order).
   bool keep_triangle_corners = false;
   /// Faces of the source that the mesh cannot hold (build() dropped them: fewer than 3
   /// distinct corners, zero area, the vertex set of another face), as corner lists of dense

@@ -1,6 +1,7 @@
 #include <geom/compress/container/extension.h>
 
 #include <geom/compress/attributes.h>
+#include <geom/compress/container/face_entries.h>
 #include <geom/compress/container/stream.h>
 #include <geom/compress/corner_attributes.h>
 #include <geom/compress/predict.h>
@@ -455,27 +456,8 @@ std::vector<Halfedge> decoded_corner_halfedges(const SurfaceMesh& mesh, const Co
                                                std::span<const std::uint32_t> vertex_slot,
                                                std::span<const std::uint32_t> face_slot,
                                                std::uint64_t where) {
-  // Polygons are numbered by their lowest triangle, as reassemble() does.
-  const std::size_t nt = t.n_triangles();
-  std::vector<std::uint32_t> poly(nt, kNone), stack;
-  std::uint32_t n = 0;
-  for (std::uint32_t t0 = 0; t0 < nt; ++t0) {
-    if (poly[t0] != kNone) continue;
-    poly[t0] = n;
-    stack.push_back(t0);
-    while (!stack.empty()) {
-      const std::uint32_t tr = stack.back();
-      stack.pop_back();
-      for (std::uint32_t c = 3 * tr; c < 3 * tr + 3 && !t.diagonal.empty(); ++c) {
-        const std::uint32_t o = t.opposite[c];
-        if (t.diagonal[c] && o != kNone && poly[o / 3] == kNone) {
-          poly[o / 3] = n;
-          stack.push_back(o / 3);
-        }
-      }
-    }
-    ++n;
-  }
+  const std::vector<std::uint32_t> poly = polygon_of_triangles(t);
+  const std::size_t n = poly.empty() ? 0 : *std::max_element(poly.begin(), poly.end()) + 1;
   if (n != face_slot.size()) throw DecodeError(where, "polygon count disagrees with the faces");
   std::vector<Halfedge> out(t.vertex.size());
   for (std::size_t c = 0; c < out.size(); ++c) {

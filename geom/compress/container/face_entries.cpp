@@ -10,30 +10,6 @@ namespace geom::codec::detail {
 
 namespace {
 
-/// Each triangle's polygon, numbered in order of lowest triangle (as reassemble() does).
-std::vector<std::uint32_t> polygon_of_triangles(const CornerTable& t) {
-  const std::size_t nt = t.n_triangles();
-  std::vector<std::uint32_t> poly(nt, kNone), stack;
-  std::uint32_t n = 0;
-  for (std::uint32_t t0 = 0; t0 < nt; ++t0) {
-    if (poly[t0] != kNone) continue;
-    poly[t0] = n;
-    stack.push_back(t0);
-    while (!stack.empty()) {
-      const std::uint32_t tr = stack.back();
-      stack.pop_back();
-      for (std::uint32_t c = 3 * tr; c < 3 * tr + 3 && !t.diagonal.empty(); ++c) {
-        const std::uint32_t o = t.opposite[c];
-        if (t.diagonal[c] && o != kNone && poly[o / 3] == kNone) {
-          poly[o / 3] = n;
-          stack.push_back(o / 3);
-        }
-      }
-    }
-    ++n;
-  }
-  return poly;
-}
 
 std::uint32_t degree(const Polygons& p, std::size_t j) { return p.offset[j + 1] - p.offset[j]; }
 
@@ -67,6 +43,30 @@ struct RotationModels {
 };
 
 }  // namespace
+
+std::vector<std::uint32_t> polygon_of_triangles(const CornerTable& t) {
+  const std::size_t nt = t.n_triangles();
+  std::vector<std::uint32_t> poly(nt, kNone), stack;
+  std::uint32_t n = 0;
+  for (std::uint32_t t0 = 0; t0 < nt; ++t0) {
+    if (poly[t0] != kNone) continue;
+    poly[t0] = n;
+    stack.push_back(t0);
+    while (!stack.empty()) {
+      const std::uint32_t tr = stack.back();
+      stack.pop_back();
+      for (std::uint32_t c = 3 * tr; c < 3 * tr + 3 && !t.diagonal.empty(); ++c) {
+        const std::uint32_t o = t.opposite[c];
+        if (t.diagonal[c] && o != kNone && poly[o / 3] == kNone) {
+          poly[o / 3] = n;
+          stack.push_back(o / 3);
+        }
+      }
+    }
+    ++n;
+  }
+  return poly;
+}
 
 std::vector<std::uint32_t> diagonal_counts(const CornerTable& table, const Polygons& polys) {
   std::vector<std::uint32_t> count(polys.vertex.size(), 0);

@@ -19,6 +19,10 @@ namespace geom::codec::detail {
 inline constexpr std::uint8_t kEntryRotation = 4;
 inline constexpr std::uint8_t kEntryLooseFaces = 5;
 
+/// Each triangle's polygon (triangles joined across diagonals), numbered in order of lowest
+/// triangle, as reassemble() numbers them.
+std::vector<std::uint32_t> polygon_of_triangles(const CornerTable& table);
+
 /// Per corner of polys.vertex, the number of diagonal edges at it (each counted from both
 /// of its triangles): the rotation symbol ranks a polygon's corners by it.
 std::vector<std::uint32_t> diagonal_counts(const CornerTable& table, const Polygons& polys);
