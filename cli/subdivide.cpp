@@ -6,6 +6,7 @@
 #include <geom/subdivision/subdivision.h>
 
 #include <chrono>
+#include <iostream>
 #include <map>
 #include <memory>
 
@@ -39,7 +40,8 @@ void add_subdivide_command(CLI::App& app) {
         o.face_varying = args->uv == "smooth" ? FaceVaryingInterpolation::kLinearBoundaries
                                               : FaceVaryingInterpolation::kLinearAll;
         if (args->crease_angle >= 0.0) o.crease_angle = args->crease_angle;
-        Loaded loaded = load_input(args->input, args->common);
+        // As given: non-manifold input is refined as OpenSubdiv refines it, nothing dropped.
+        PolygonSoup soup = read_input(args->input, args->common);
         // The file's "t interpolateboundary" tag (RenderMan values: 0 none, 1 edges and
         // corners, 2 edges) applies unless --boundary is given.
         const std::map<std::string, BoundaryInterpolation> modes = {
@@ -48,8 +50,8 @@ void add_subdivide_command(CLI::App& app) {
             {"corners", BoundaryInterpolation::kEdgesAndCorners}};
         if (args->boundary) {
           o.boundary = modes.at(*args->boundary);
-        } else if (loaded.soup.boundary_interpolation) {
-          const int tag = *loaded.soup.boundary_interpolation;
+        } else if (soup.boundary_interpolation) {
+          const int tag = *soup.boundary_interpolation;
           o.boundary = tag == 0 ? BoundaryInterpolation::kNone
                        : tag == 1 ? BoundaryInterpolation::kEdgesAndCorners
                                   : BoundaryInterpolation::kEdges;
@@ -57,23 +59,38 @@ void add_subdivide_command(CLI::App& app) {
         Progress progress("subdivide", !args->common.quiet && args->common.output != "-");
         o.progress = progress.callback();
         const auto t0 = std::chrono::steady_clock::now();
-        SubdivideResult r = subdivide(loaded.mesh, o);
+        SoupSubdivideResult r = subdivide(soup, o);
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         progress.finish();
-        write_output(r.mesh, {args->input}, args->common);
+        if (r.opened_edges > 0 && !args->common.quiet)
+          std::cerr << "geom: warning: subdivide: " << r.opened_edges
+                    << " smooth edges had to be opened to split non-manifold input; next to "
+                       "them the result differs from OpenSubdiv's\n";
+        write_output(r.soup, {args->input}, args->common);
+        const LevelCounts& last = r.per_level.back();
         nlohmann::json j = {{"scheme", args->scheme},
                             {"levels", r.levels},
-                            {"vertices", r.mesh.n_vertices()},
-                            {"edges", r.mesh.n_edges()},
-                            {"faces", r.mesh.n_faces()},
-                            {"faces_before", loaded.mesh.n_faces()},
+                            {"vertices", last.vertices},
+                            {"edges", last.edges},
+                            {"faces", last.faces},
+                            {"faces_before", soup.n_faces()},
                             {"angle_creased_edges", r.angle_creased_edges},
+                            {"nonmanifold_edges", r.nonmanifold_edges},
+                            {"nonmanifold_vertices", r.nonmanifold_vertices},
+                            {"degenerate_edges", r.degenerate_edges},
+                            {"split_vertices", r.split_vertices},
+                            {"opened_edges", r.opened_edges},
                             {"seconds", seconds}};
-        std::string text = std::to_string(loaded.mesh.n_faces()) + " -> " +
-                           std::to_string(r.mesh.n_faces()) + " faces (" + args->scheme +
-                           ", " + std::to_string(r.levels) + " levels, " +
-                           std::to_string(seconds) + " s)\n";
+        std::string text = std::to_string(soup.n_faces()) + " -> " +
+                           std::to_string(last.faces) + " faces (" + args->scheme + ", " +
+                           std::to_string(r.levels) + " levels, " + std::to_string(seconds) +
+                           " s)\n";
+        if (r.nonmanifold_edges + r.nonmanifold_vertices + r.degenerate_edges > 0)
+          text += "refined as given, as OpenSubdiv does: " + std::to_string(r.nonmanifold_edges) +
+                  " non-manifold edges, " + std::to_string(r.nonmanifold_vertices) +
+                  " non-manifold vertices, " + std::to_string(r.degenerate_edges) +
+                  " edges from a vertex to itself (all infinitely sharp)\n";
         if (o.limit) {
           j["limit_max_distance"] = r.limit_max_distance;
           j["limit_rms_distance"] = r.limit_rms_distance;

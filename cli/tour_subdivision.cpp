@@ -8,6 +8,35 @@
 
 namespace geom::cli {
 
+namespace {
+
+/// Non-manifold input as given: three quads on one edge (a fin), refined as OpenSubdiv
+/// refines it. Its level 1 has V + E + F vertices: no vertex was split apart.
+nlohmann::json as_given_fin(TourContext& tour) {
+  PolygonSoup fin;
+  fin.positions = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0.1}, {1, 1, 0}, {-1, 0, 0}, {-1, 1, 0.2},
+                   {0, 0, 1}, {0, 1, 1.1}};
+  fin.add_face({0, 1, 3, 2});
+  fin.add_face({1, 0, 4, 5});
+  fin.add_face({0, 1, 7, 6});
+  SubdivideOptions o;
+  o.levels = 2;
+  const SoupSubdivideResult r = subdivide(fin, o);
+  tour.text("Non-manifold input is refined as given, as OpenSubdiv refines it: three quads on "
+            "one edge come out with " + std::to_string(r.nonmanifold_edges) +
+            " non-manifold edge made infinitely sharp, " + std::to_string(r.per_level[1].vertices) +
+            " vertices at level 1 (V + E + F = 8 + 10 + 3) and " +
+            std::to_string(r.per_level[2].vertices) + " at level 2; the " +
+            std::to_string(r.split_vertices) +
+            " copies the half-edge core needed are joined again.");
+  return {{"nonmanifold_edges", r.nonmanifold_edges},
+          {"level1_vertices", r.per_level[1].vertices},
+          {"level2_vertices", r.per_level[2].vertices},
+          {"split_vertices", r.split_vertices}};
+}
+
+}  // namespace
+
 void tour_subdivision(TourContext& tour) {
   tour.heading("Subdivision");
   tour.text("`geom subdivide --levels N [--limit]`: Catmull-Clark with OpenSubdiv's rules (the "
@@ -44,7 +73,7 @@ void tour_subdivision(TourContext& tour) {
     tiles.emplace_back("LEVEL " + std::to_string(i + 1) + " F=" + std::to_string(levels_kept[i].n_faces()),
                        &levels_kept[i]);
   tour.preview_montage(tour.stem + "_subdivision.png", tiles, "Catmull-Clark levels");
-  tour.record({{"runs", runs}});
+  tour.record({{"runs", runs}, {"as_given", as_given_fin(tour)}});
 }
 
 }  // namespace geom::cli

@@ -87,6 +87,47 @@ SurfaceMesh with_creases(const SurfaceMesh& mesh, py::handle creases, py::handle
   return m;
 }
 
+/// The soup of (vertices, faces) with crease and corner tags from the same rows.
+PolygonSoup tagged_soup(py::handle vertices, py::handle faces, py::handle creases,
+                        py::handle corners) {
+  PolygonSoup soup = soup_from_arrays(vertices, faces);
+  const std::size_t nv = soup.positions.size();
+  if (!creases.is_none()) {
+    auto r = table(creases, 3, "creases").unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i)
+      soup.creases.push_back({vertex_index(r(i, 0), nv, "creases"),
+                              vertex_index(r(i, 1), nv, "creases"), r(i, 2)});
+  }
+  if (!corners.is_none()) {
+    auto r = table(corners, 2, "corners").unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i)
+      soup.corners.push_back({vertex_index(r(i, 0), nv, "corners"), r(i, 1)});
+  }
+  return soup;
+}
+
+/// Faces of a soup: an F×k array when all have k corners, else a list of lists.
+py::object soup_faces(const PolygonSoup& soup) {
+  const std::size_t nf = soup.n_faces();
+  const std::size_t k = nf ? soup.face(0).size() : 3;
+  bool uniform = true;
+  for (std::size_t f = 0; f < nf && uniform; ++f) uniform = soup.face(f).size() == k;
+  if (uniform) {
+    py::array_t<std::int64_t> out({static_cast<py::ssize_t>(nf), static_cast<py::ssize_t>(k)});
+    auto a = out.mutable_unchecked<2>();
+    for (std::size_t f = 0; f < nf; ++f)
+      for (std::size_t j = 0; j < k; ++j) a(py::ssize_t(f), py::ssize_t(j)) = soup.face(f)[j];
+    return out;
+  }
+  py::list out;
+  for (std::size_t f = 0; f < nf; ++f) {
+    py::list corners;
+    for (std::uint32_t v : soup.face(f)) corners.append(v);
+    out.append(corners);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_subdivision(py::module_& m) {
@@ -149,6 +190,31 @@ void bind_subdivision(py::module_& m) {
       },
       py::arg("mesh"), py::arg("options") = SubdivideOptions{}, py::arg("creases") = py::none(),
       py::arg("corners") = py::none());
+
+  py::class_<SoupSubdivideResult>(m, "SoupSubdivideResult")
+      .def_property_readonly("vertices",
+                             [](const SoupSubdivideResult& r) { return rows3(r.soup.positions); })
+      .def_property_readonly("faces", [](const SoupSubdivideResult& r) { return soup_faces(r.soup); })
+      .def_readonly("levels", &SoupSubdivideResult::levels)
+      .def_readonly("per_level", &SoupSubdivideResult::per_level)
+      .def_readonly("angle_creased_edges", &SoupSubdivideResult::angle_creased_edges)
+      .def_readonly("limit_max_distance", &SoupSubdivideResult::limit_max_distance)
+      .def_readonly("limit_rms_distance", &SoupSubdivideResult::limit_rms_distance)
+      .def_readonly("nonmanifold_edges", &SoupSubdivideResult::nonmanifold_edges)
+      .def_readonly("nonmanifold_vertices", &SoupSubdivideResult::nonmanifold_vertices)
+      .def_readonly("degenerate_edges", &SoupSubdivideResult::degenerate_edges)
+      .def_readonly("split_vertices", &SoupSubdivideResult::split_vertices)
+      .def_readonly("opened_edges", &SoupSubdivideResult::opened_edges);
+  m.def(
+      "subdivide_soup",
+      [](py::handle vertices, py::handle faces, const SubdivideOptions& options,
+         py::handle creases, py::handle corners) {
+        PolygonSoup soup = tagged_soup(vertices, faces, creases, corners);
+        py::gil_scoped_release release;
+        return subdivide(soup, options);
+      },
+      py::arg("vertices"), py::arg("faces"), py::arg("options") = SubdivideOptions{},
+      py::arg("creases") = py::none(), py::arg("corners") = py::none());
 
   py::class_<LimitOptions>(m, "LimitOptions")
       .def(py::init<>())

@@ -108,7 +108,16 @@ void apply(const Step& step, bool first, State& s, Record& r) {
           s.mesh = std::move(result.mesh);
           s.origin.clear();
         } else if constexpr (std::is_same_v<T, SubdivideStep>) {
-          s.mesh = subdivide(s.mesh, o.options).mesh;
+          if (s.soup_only) {
+            SoupSubdivideResult result = subdivide(s.soup, o.options);
+            if (result.opened_edges > 0)
+              r.warnings.push_back("subdivide: " + std::to_string(result.opened_edges) +
+                                   " smooth edges had to be opened to split non-manifold input; "
+                                   "next to them the result differs from OpenSubdiv's");
+            s.soup = std::move(result.soup);
+          } else {
+            s.mesh = subdivide(s.mesh, o.options).mesh;
+          }
           s.origin.clear();
         } else if constexpr (std::is_same_v<T, CompressStep>) {
           CompressOptions options = o.options;
@@ -132,8 +141,12 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
   r.warnings = s.soup.warnings;
   s.material_libraries = s.soup.material_libraries;
   s.write.format = format_from_path(task.input);  // kept unless a convert step changes it
-  s.soup_only = std::all_of(p.steps.begin(), p.steps.end(),
-                            [](const Step& step) { return std::holds_alternative<ConvertStep>(step.options); });
+  // Conversions and subdivision take the soup as given: no half-edge mesh is built (the
+  // subdivision splits and joins non-manifold input itself).
+  s.soup_only = std::all_of(p.steps.begin(), p.steps.end(), [](const Step& step) {
+    return std::holds_alternative<ConvertStep>(step.options) ||
+           std::holds_alternative<SubdivideStep>(step.options);
+  });
   if (s.soup_only) return;
   const auto* repair = std::get_if<RepairStep>(&p.steps.front().options);
   BuildResult built = build(s.soup, repair ? repair->options : BuildOptions{});
@@ -149,6 +162,7 @@ void read(const Pipeline& p, const Task& task, State& s, Record& r) {
 }
 
 void write(const Task& task, State& s, Record& r) {
+  r.after = s.soup_only ? MeshCounts{s.soup.positions.size(), s.soup.n_faces()} : counts(s.mesh);
   std::vector<std::byte> file;
   if (!s.is_compressed) {
     PolygonSoup out = s.soup_only ? std::move(s.soup) : to_soup(s.mesh);
@@ -158,7 +172,6 @@ void write(const Task& task, State& s, Record& r) {
   }
   const auto bytes = s.is_compressed ? std::as_bytes(std::span(s.compressed)) : std::span(std::as_const(file));
   write_atomically(task.output, bytes);
-  r.after = s.soup_only ? r.before : counts(s.mesh);
   r.output_bytes = bytes.size();
 }
 

@@ -170,8 +170,9 @@ class Builder {
         why = "fewer than 3 distinct corners";
       } else if (std::uint32_t dup = repeated_vertex(face); dup != kNone) {
         why = "visits vertex " + s(dup) + " twice";
-      } else if (face.size() == 3 ? is_collinear(P[face[0]], P[face[1]], P[face[2]])
-                                  : zero_area(face, pts)) {
+      } else if (!opt_.keep_degenerate &&
+                 (face.size() == 3 ? is_collinear(P[face[0]], P[face[1]], P[face[2]])
+                                   : zero_area(face, pts))) {
         why = "zero area";
       }
       if (!why.empty()) {
@@ -282,7 +283,7 @@ class Builder {
       if (m == 1) return;
       // Same vertex set across a shared edge: a duplicate face (checked on every edge, as
       // duplicates share all their edges).
-      for (std::uint32_t a = i; a < j; ++a)
+      for (std::uint32_t a = i; a < j && !opt_.keep_degenerate; ++a)
         for (std::uint32_t b = a + 1; b < j; ++b) {
           std::uint32_t f = face_of(E[a].corner), g = face_of(E[b].corner);
           if (same_vertex_set(f, g)) {

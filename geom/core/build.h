@@ -26,6 +26,9 @@ struct BuildOptions {
   bool orient = true;
   /// Drop vertices no face uses.
   bool drop_unreferenced = false;
+  /// Keep zero-area faces and faces with the same vertex set as another, as given (they are
+  /// dropped otherwise). A kept duplicate that doubles an edge gets vertices of its own.
+  bool keep_degenerate = false;
 };
 
 /// What build() changed. Each count comes with a few example element indices (input

@@ -5,28 +5,13 @@
 #include <geom/core/errors.h>
 #include <geom/core/soup.h>
 #include <geom/subdivision/creases.h>
+#include <geom/subdivision/union_find.h>
 
 #include <algorithm>
 #include <numeric>
 #include <string>
 
 namespace geom::detail::subdiv {
-
-namespace {
-
-/// Union-find over face corners (halfedges), joining corners of a vertex whose faces share
-/// an edge along which the data is continuous.
-struct Corners {
-  std::vector<std::uint32_t> parent;
-  explicit Corners(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t h) {
-    while (parent[h] != h) h = parent[h] = parent[parent[h]];
-    return h;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
-};
-
-}  // namespace
 
 std::vector<double> refine_face_varying_smooth(const SurfaceMesh& mesh, const double* rows,
                                                int w, const SubdivideOptions& options,
@@ -42,7 +27,7 @@ std::vector<double> refine_face_varying_smooth(const SurfaceMesh& mesh, const do
 
   // A seam edge is one whose two faces disagree at either end; its ends and every boundary
   // vertex keep their values (OpenSubdiv tags them mismatched, hence corners).
-  Corners corners(mesh.halfedges_size());
+  UnionFind corners(mesh.halfedges_size());
   std::vector<char> on_seam(mesh.vertices_size(), 0);
   for (Edge e : mesh.edges()) {
     const Halfedge h = mesh.halfedge(e, 0), o = mesh.halfedge(e, 1);

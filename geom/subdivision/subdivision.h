@@ -23,6 +23,7 @@
 /// control", SIGGRAPH 2000 (limit masks). OpenSubdiv 3 documentation, "Subdivision
 /// Surfaces" (Sdc rules).
 
+#include <geom/core/soup.h>
 #include <geom/core/surface_mesh.h>
 
 #include <cstddef>
@@ -121,6 +122,39 @@ struct SubdivideResult {
 /// progress callback returns false.
 /// Complexity: O(output size); memory about 2× the output mesh.
 SubdivideResult subdivide(const SurfaceMesh& mesh, const SubdivideOptions& options = {});
+
+struct SoupSubdivideResult {
+  /// The refined faces on OpenSubdiv's vertices, in its order (face-points, edge-points,
+  /// vertex-points), with the input's attributes refined; crease and corner tags carry
+  /// their decayed sharpness when the input had any (non-manifold edges among them).
+  PolygonSoup soup;
+  int levels = 0;
+  std::vector<LevelCounts> per_level;  ///< OpenSubdiv's counts, levels + 1 entries
+  std::size_t angle_creased_edges = 0;
+  double limit_max_distance = 0.0;
+  double limit_rms_distance = 0.0;
+  /// What OpenSubdiv refines as non-manifold in the input: edges with 3+ faces or whose two
+  /// faces run the same way, the vertices on them or where faces meet in more than one fan
+  /// (all infinitely sharp, as OpenSubdiv makes them), and edges from a vertex to itself.
+  std::size_t nonmanifold_edges = 0, nonmanifold_vertices = 0, degenerate_edges = 0;
+  /// Vertex copies the half-edge core needed (joined again in `soup`).
+  std::size_t split_vertices = 0;
+  /// Edges OpenSubdiv refines smooth that the split had to leave open: next to them the
+  /// result differs from OpenSubdiv's (0 on every regression shape OpenSubdiv ships).
+  std::size_t opened_edges = 0;
+};
+
+/// Refine a soup as given, as OpenSubdiv refines the same faces: non-manifold edges and
+/// vertices, faces that disagree on orientation, repeated corners, duplicate and zero-area
+/// faces are refined, none dropped or repaired. The soup's crease/corner tags apply; its
+/// "t interpolateboundary" tag does not (options.boundary does). The half-edge core cannot
+/// hold non-manifold topology, so the soup is split for it, each copy tagged with
+/// OpenSubdiv's sharpness of its original, and the copies are joined again: the output's
+/// first levels of vertices are the input's. Manifold input takes subdivide(mesh)'s path.
+/// Throws: InvalidArgument naming a face with an index out of range or fewer than 3
+/// corners, and as subdivide(mesh).
+/// Complexity: O(output size) plus, when the input is non-manifold, a mesh per level.
+SoupSubdivideResult subdivide(const PolygonSoup& soup, const SubdivideOptions& options = {});
 
 struct LimitOptions {
   SubdivisionScheme scheme = SubdivisionScheme::kCatmullClark;

@@ -1,19 +1,33 @@
 """Subdivision surfaces (geom/subdivision): Catmull-Clark and Loop with OpenSubdiv's rules."""
 
+import warnings
+
 from . import _geom
 from ._options import make
 
 __all__ = ["subdivide", "limit_positions", "SubdivideOptions", "SubdivideResult",
-           "LimitOptions", "LimitResult"]
+           "SoupSubdivideResult", "LimitOptions", "LimitResult"]
 
 SubdivideOptions = _geom.SubdivideOptions
 SubdivideResult = _geom.SubdivideResult
+SoupSubdivideResult = _geom.SoupSubdivideResult
 LimitOptions = _geom.LimitOptions
 LimitResult = _geom.LimitResult
 
 
-def subdivide(mesh, creases=None, corners=None, **options):
+def subdivide(mesh, faces=None, creases=None, corners=None, **options):
     """Refine ``mesh`` uniformly; the numbers are OpenSubdiv's, vertex for vertex.
+
+    ``subdivide(vertices, faces, ...)`` (a V×3 array and an F×k array or a list of index
+    lists) refines the faces as given, as OpenSubdiv does: non-manifold edges and vertices,
+    faces that disagree on orientation, repeated corners, duplicate and zero-area faces are
+    refined, none dropped or repaired (non-manifold elements are infinitely sharp). It
+    returns a SoupSubdivideResult with ``.vertices`` (in OpenSubdiv's order: face-points,
+    edge-points, vertex-points), ``.faces``, ``.per_level``, and what the input held:
+    ``.nonmanifold_edges``, ``.nonmanifold_vertices``, ``.degenerate_edges`` (vertex to
+    itself), ``.split_vertices`` (copies made for the half-edge core and joined again),
+    ``.opened_edges`` (smooth edges the split had to open; the result differs from
+    OpenSubdiv's next to them, and a UserWarning says so).
 
     Options (SubdivideOptions fields): ``scheme`` ('catmull-clark', the default, or 'loop',
     which needs triangles), ``levels`` (default 1, 0 to 10), ``boundary`` ('edges', the
@@ -37,6 +51,14 @@ def subdivide(mesh, creases=None, corners=None, **options):
     Raises ValueError (geom.TopologyError) for a non-manifold vertex, (geom.InvalidArgument)
     for Loop on non-triangles, bad options, or a crease row that names no edge.
     """
+    if faces is not None:
+        result = _geom.subdivide_soup(mesh, faces, make(SubdivideOptions, options), creases,
+                                      corners)
+        if result.opened_edges:
+            warnings.warn(f"subdivide: {result.opened_edges} smooth edges had to be opened to "
+                          "split non-manifold input; next to them the result differs from "
+                          "OpenSubdiv's", UserWarning, stacklevel=2)
+        return result
     return _geom.subdivide(mesh, make(SubdivideOptions, options), creases, corners)
 
 

@@ -474,6 +474,9 @@ def test_tour_default_sample(run, tmp_path):
     # (it did not while polygons lost their first corner: 0.031 against 8.3e-5 at 14 bits).
     for run_ in summary["steps"]["compress"]["runs"]:
         assert run_["hausdorff"] <= run_["error_bound"], run_
+    # Non-manifold input refined as given: V + E + F vertices at level 1, nothing split apart.
+    fin = summary["steps"]["subdivision"]["as_given"]
+    assert (fin["nonmanifold_edges"], fin["level1_vertices"], fin["level2_vertices"]) == (1, 21, 65)
 
 
 def test_tour_given_file_and_json(run, meshes, tmp_path):

@@ -137,3 +137,54 @@ def test_smooth_face_varying_uvs_follow_the_vertices(run, tmp_path):
     assert _corner_uv_error(out, uv) < 1e-12
     with pytest.raises(ValueError):
         geom.subdivide(cube(), face_varying="cubic")
+
+
+FIN = np.array([[0, 0, 0], [0, 1, 0], [1, 0, 0.1], [1, 1, 0], [-1, 0, 0], [-1, 1, 0.2],
+                [0, 0, 1], [0, 1, 1.1]], dtype=float)
+FIN_FACES = np.array([[0, 1, 3, 2], [1, 0, 4, 5], [0, 1, 7, 6]])  # three quads on edge 0-1
+
+
+def test_non_manifold_faces_are_refined_as_given():
+    r = geom.subdivide(FIN, FIN_FACES, levels=2)
+    # OpenSubdiv's counts: V + E + F at level 1 (8 + 10 + 3), then 21 + 32 + 12.
+    assert [c.vertices for c in r.per_level] == [8, 21, 65]
+    assert r.vertices.shape == (65, 3) and r.faces.shape == (48, 4)
+    assert (r.nonmanifold_edges, r.nonmanifold_vertices, r.opened_edges) == (1, 2, 0)
+    assert r.split_vertices > 0
+    # The fin's edge is infinitely sharp: its ends stay put, its midpoint is a midpoint.
+    level1 = geom.subdivide(FIN, FIN_FACES, levels=1)
+    np.testing.assert_allclose(level1.vertices[3 + 10 + 0], FIN[0])
+    np.testing.assert_allclose(level1.vertices[3 + 10 + 1], FIN[1])
+    # Every input vertex's vertex-point comes out once: nothing was split apart.
+    assert len(np.unique(level1.faces)) == 21
+
+
+def test_as_given_faces_with_repeats_and_lists():
+    faces = [[0, 1, 1, 2], [1, 4, 5, 2], [0, 2, 3, 0, 2]]
+    pts = [[0, 0, 0], [1, 0, 0], [1, 1, 0.3], [0, 1, 0], [2, 0, 0], [2, 1, 0.5]]
+    r = geom.subdivide(pts, faces, levels=1, creases=[(1, 4, 2.0)])
+    assert r.faces.shape == (13, 4) and r.degenerate_edges >= 1
+    with pytest.raises(ValueError, match="face 0"):
+        geom.subdivide(pts, [[0, 1, 9]])
+
+
+def test_cli_subdivide_keeps_a_fin_as_given(run, tmp_path):
+    src = tmp_path / "fin.obj"
+    src.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in FIN) +
+                   "".join("f " + " ".join(str(i + 1) for i in f) + "\n" for f in FIN_FACES))
+    out = tmp_path / "out.obj"
+    r = run("subdivide", src, out, "--json")
+    assert r.returncode == 0, r.stderr
+    j = json.loads(r.stdout)
+    assert (j["vertices"], j["faces"], j["nonmanifold_edges"], j["opened_edges"]) == (21, 12, 1, 0)
+    text = out.read_text().splitlines()
+    assert sum(line.startswith("v ") for line in text) == 21
+    assert sum(line.startswith("f ") for line in text) == 12
+    # A batch of subdivide steps takes the same path: the fin keeps its 21 vertices.
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "fin.obj").write_text(src.read_text())
+    r = run("batch", folder, tmp_path / "b", "--step", "subdivide --levels 1")
+    assert r.returncode == 0, r.stderr
+    batch_text = (tmp_path / "b" / "fin.obj").read_text().splitlines()
+    assert sum(line.startswith("v ") for line in batch_text) == 21

@@ -28,6 +28,7 @@ struct OsdParams {
 };
 
 struct OsdRun {
+  bool accepted = true;  ///< false when Far refused the topology
   std::vector<std::vector<Eigen::Vector3d>> positions;     // per level 0..levels
   std::vector<std::vector<std::vector<int>>> faces;        // per level: corner vertex lists
   std::vector<Eigen::Vector3d> limit;                      // of the last level
@@ -55,69 +56,99 @@ struct Vec2 {
 };
 }  // namespace osd_detail
 
-inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
-  using namespace OpenSubdiv;
-  using Descriptor = Far::TopologyDescriptor;
-  using osd_detail::Vec2;
-  using osd_detail::Vec3;
+/// A control mesh as OpenSubdiv's TopologyDescriptor takes it.
+struct OsdInput {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<int> counts, indices, crease_pairs, corner_ids, fvar_indices;
+  std::vector<float> crease_weights, corner_weights;
+  std::vector<osd_detail::Vec2> fvar_values;
+  bool uvs = false;
+};
 
-  std::vector<int> counts, indices;
+inline OsdInput osd_input(const SurfaceMesh& mesh) {
+  using osd_detail::Vec2;
+  OsdInput in;
+  for (Vertex v : mesh.vertices()) in.positions.push_back(mesh.position(v));
   for (Face f : mesh.faces()) {
     int n = 0;
     for (Vertex v : mesh.vertices(f)) {
-      indices.push_back(static_cast<int>(v.idx()));
+      in.indices.push_back(static_cast<int>(v.idx()));
       ++n;
     }
-    counts.push_back(n);
+    in.counts.push_back(n);
   }
-  std::vector<int> crease_pairs;
-  std::vector<float> crease_weights;
   if (auto es = mesh.get_property<Edge, double>(prop::kEdgeSharpness))
     for (Edge e : mesh.edges())
       if (es[e] > 0.0) {
-        crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 1).idx()));
-        crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 0).idx()));
-        crease_weights.push_back(static_cast<float>(es[e]));
+        in.crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 1).idx()));
+        in.crease_pairs.push_back(static_cast<int>(mesh.vertex(e, 0).idx()));
+        in.crease_weights.push_back(static_cast<float>(es[e]));
       }
-  std::vector<int> corner_ids;
-  std::vector<float> corner_weights;
   if (auto vs = mesh.get_property<Vertex, double>(prop::kVertexSharpness))
     for (Vertex v : mesh.vertices())
       if (vs[v] > 0.0) {
-        corner_ids.push_back(static_cast<int>(v.idx()));
-        corner_weights.push_back(static_cast<float>(vs[v]));
+        in.corner_ids.push_back(static_cast<int>(v.idx()));
+        in.corner_weights.push_back(static_cast<float>(vs[v]));
       }
   // Face-varying: share a value among the corners of a vertex with identical UVs.
   auto uvs = mesh.get_property<Halfedge, TexCoord>(prop::kCornerTexCoord);
-  std::vector<int> fvar_indices;
-  std::vector<Vec2> fvar_values;
   if (uvs) {
+    in.uvs = true;
     std::map<std::pair<std::uint32_t, std::pair<double, double>>, int> ids;
     for (Face f : mesh.faces())
       for (Halfedge h : mesh.halfedges(f)) {
         const TexCoord& t = uvs[h];
         auto key = std::make_pair(mesh.to_vertex(h).idx(), std::make_pair(t.x(), t.y()));
-        auto [it, fresh] = ids.emplace(key, static_cast<int>(fvar_values.size()));
-        if (fresh) fvar_values.push_back({{t.x(), t.y()}});
-        fvar_indices.push_back(it->second);
+        auto [it, fresh] = ids.emplace(key, static_cast<int>(in.fvar_values.size()));
+        if (fresh) in.fvar_values.push_back({{t.x(), t.y()}});
+        in.fvar_indices.push_back(it->second);
       }
   }
+  return in;
+}
+
+/// The soup as given: faces, crease and corner tags (no face-varying data).
+inline OsdInput osd_input(const PolygonSoup& soup) {
+  OsdInput in;
+  in.positions = soup.positions;
+  for (std::size_t f = 0; f < soup.n_faces(); ++f) {
+    for (std::uint32_t v : soup.face(f)) in.indices.push_back(static_cast<int>(v));
+    in.counts.push_back(static_cast<int>(soup.face(f).size()));
+  }
+  for (const EdgeSharpness& c : soup.creases) {
+    in.crease_pairs.push_back(static_cast<int>(c.a));
+    in.crease_pairs.push_back(static_cast<int>(c.b));
+    in.crease_weights.push_back(static_cast<float>(c.sharpness));
+  }
+  for (const VertexSharpness& c : soup.corners) {
+    in.corner_ids.push_back(static_cast<int>(c.v));
+    in.corner_weights.push_back(static_cast<float>(c.sharpness));
+  }
+  return in;
+}
+
+inline OsdRun run_osd(const OsdInput& in, const OsdParams& params) {
+  using namespace OpenSubdiv;
+  using Descriptor = Far::TopologyDescriptor;
+  using osd_detail::Vec2;
+  using osd_detail::Vec3;
 
   Descriptor desc;
-  desc.numVertices = static_cast<int>(mesh.vertices_size());
-  desc.numFaces = static_cast<int>(counts.size());
-  desc.numVertsPerFace = counts.data();
-  desc.vertIndicesPerFace = indices.data();
-  desc.numCreases = static_cast<int>(crease_weights.size());
-  desc.creaseVertexIndexPairs = crease_pairs.data();
-  desc.creaseWeights = crease_weights.data();
-  desc.numCorners = static_cast<int>(corner_weights.size());
-  desc.cornerVertexIndices = corner_ids.data();
-  desc.cornerWeights = corner_weights.data();
+  desc.numVertices = static_cast<int>(in.positions.size());
+  desc.numFaces = static_cast<int>(in.counts.size());
+  desc.numVertsPerFace = in.counts.data();
+  desc.vertIndicesPerFace = in.indices.data();
+  desc.numCreases = static_cast<int>(in.crease_weights.size());
+  desc.creaseVertexIndexPairs = in.crease_pairs.data();
+  desc.creaseWeights = in.crease_weights.data();
+  desc.numCorners = static_cast<int>(in.corner_weights.size());
+  desc.cornerVertexIndices = in.corner_ids.data();
+  desc.cornerWeights = in.corner_weights.data();
   Descriptor::FVarChannel channel;
+  const bool uvs = in.uvs;
   if (uvs) {
-    channel.numValues = static_cast<int>(fvar_values.size());
-    channel.valueIndices = fvar_indices.data();
+    channel.numValues = static_cast<int>(in.fvar_values.size());
+    channel.valueIndices = in.fvar_indices.data();
     desc.numFVarChannels = 1;
     desc.fvarChannels = &channel;
   }
@@ -145,19 +176,20 @@ inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
                                                                         : Sdc::SCHEME_CATMARK;
   std::unique_ptr<Far::TopologyRefiner> refiner(Far::TopologyRefinerFactory<Descriptor>::Create(
       desc, Far::TopologyRefinerFactory<Descriptor>::Options(type, options)));
+  OsdRun run;
+  if (!refiner) {
+    run.accepted = false;
+    return run;
+  }
   Far::TopologyRefiner::UniformOptions uniform(params.levels);
   uniform.orderVerticesFromFacesFirst = true;
   uniform.fullTopologyInLastLevel = true;
   refiner->RefineUniform(uniform);
 
-  OsdRun run;
   std::vector<std::vector<Vec3>> pos(params.levels + 1);
-  for (Vertex v : mesh.vertices()) {
-    const Point& p = mesh.position(v);
-    pos[0].push_back({{p.x(), p.y(), p.z()}});
-  }
+  for (const Eigen::Vector3d& p : in.positions) pos[0].push_back({{p.x(), p.y(), p.z()}});
   Far::PrimvarRefinerReal<double> primvar(*refiner);
-  std::vector<Vec2> fv = fvar_values;
+  std::vector<Vec2> fv = in.fvar_values;
   for (int l = 1; l <= params.levels; ++l) {
     pos[l].resize(refiner->GetLevel(l).GetNumVertices());
     primvar.Interpolate(l, pos[l - 1], pos[l]);
@@ -199,6 +231,10 @@ inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
     }
   }
   return run;
+}
+
+inline OsdRun run_osd(const SurfaceMesh& mesh, const OsdParams& params) {
+  return run_osd(osd_input(mesh), params);
 }
 
 /// Unit limit normals (tan1 × tan2 from PrimvarRefiner::Limit) of the vertices of `mesh`
