@@ -2,14 +2,18 @@
 #include <geom/io/gltf_buffers.h>
 
 #include <geom/core/errors.h>
+#include <geom/core/weld.h>
 
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
 
-#include <cmath>
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 #include <optional>
+#include <unordered_map>
 
 namespace geom {
 namespace {
@@ -158,7 +162,7 @@ class Reader {
   }
 
   struct MeshAttributes {
-    bool normals = true, uvs = true, colors = true;
+    bool normals = true, uvs = true, colors = true, ids = true;
   };
 
   void add_primitive(PolygonSoup& soup, const json& prim, const std::string& where, MeshAttributes& has) {
@@ -188,6 +192,15 @@ class Reader {
     if (has.uvs) {
       const auto v = attribute(at, "TEXCOORD_0", 2, nv, where + ".attributes", d);
       for (std::size_t i = 0; i < nv; ++i) soup.vertex_texcoords.emplace_back(v[2 * i], v[2 * i + 1]);
+    }
+    has.ids = has.ids && at.contains(kVertexIdAttribute) && !draco;
+    if (has.ids) {
+      std::size_t k = 0;
+      const auto v = buffers_->accessor(ctx_.index(at, kVertexIdAttribute, n_acc, where + ".attributes"), 2,
+                                        {kUnsignedShort}, k);
+      if (k != nv) fail(where + ".attributes." + kVertexIdAttribute, "count differs from POSITION's");
+      for (std::size_t i = 0; i < nv; ++i)
+        ids_.push_back(static_cast<std::uint32_t>(v[2 * i]) | static_cast<std::uint32_t>(v[2 * i + 1]) << 16);
     }
     has.colors = has.colors && at.contains("COLOR_0");
     if (has.colors) {
@@ -249,7 +262,33 @@ class Reader {
     drop(has.normals, soup.vertex_normals, "NORMAL");
     drop(has.uvs, soup.vertex_texcoords, "TEXCOORD_0");
     drop(has.colors, soup.vertex_colors, "COLOR_0");
+    weld(soup, has.ids);
     return soup;
+  }
+
+  // glTF splits a vertex wherever its normal or texture coordinate differs (a seam). The
+  // mesh is read as one: vertices at the same position with the same colour (or, in files
+  // geom wrote, with the same _GEOM_VERTEX) are one vertex, whose differing normals and
+  // texture coordinates move to the face corners.
+  void weld(PolygonSoup& soup, bool by_id) {
+    const std::size_t n = soup.positions.size();
+    std::vector<std::uint32_t> same(n);
+    if (by_id && ids_.size() == n) {
+      std::unordered_map<std::uint32_t, std::uint32_t> first;
+      for (std::uint32_t v = 0; v < n; ++v) same[v] = first.try_emplace(ids_[v], v).first->second;
+    } else {
+      std::map<std::array<double, 6>, std::uint32_t> first;
+      const bool colors = soup.vertex_colors.size() == n;
+      for (std::uint32_t v = 0; v < n; ++v) {
+        const Point& p = soup.positions[v];
+        const Color c = colors ? soup.vertex_colors[v] : Color::Zero();
+        // + 0.0 makes -0 and +0 one key.
+        same[v] = first.try_emplace({p.x() + 0.0, p.y() + 0.0, p.z() + 0.0, c.x(), c.y(), c.z()}, v).first->second;
+      }
+    }
+    ids_.clear();
+    seams_to_corners(soup, same);
+    join_vertices(soup, same);
   }
 
   Eigen::Matrix4d node_matrix(const json& n, const std::string& where) const {
@@ -317,6 +356,7 @@ class Reader {
   std::span<const std::byte> bin_;
   std::optional<Buffers> buffers_;
   std::string ignored_;
+  std::vector<std::uint32_t> ids_;  ///< _GEOM_VERTEX of the mesh being read
 };
 
 }  // namespace

@@ -2,7 +2,12 @@
 /// \file
 /// glTF 2.0 (.gltf with embedded or external buffers, .glb): meshes with positions, normals,
 /// texture coordinates, colours and indices, and the node hierarchy with its transforms — kept
-/// as a document, or flattened into one soup for conversion. Reading also takes
+/// as a document, or flattened into one soup for conversion. glTF splits a vertex wherever a
+/// normal or texture coordinate changes; each mesh is read as one welded mesh instead
+/// (vertices at one position with one colour are one, their differing normals and texture
+/// coordinates become corner values), so seams do not cut it into pieces. Writing splits
+/// vertices again per corner value, and marks them with a "_GEOM_VERTEX" attribute when
+/// welding by position would join vertices the soup keeps apart (coincident instances). Reading also takes
 /// Draco-compressed primitives, quantized attributes, meshopt-compressed buffer views and
 /// sparse accessors; point and line primitives are skipped with a warning, as are required
 /// extensions that change only materials, textures or lights. LOD chains are written with the

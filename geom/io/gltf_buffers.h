@@ -22,6 +22,10 @@ namespace geom::gltf_detail {
 
 using nlohmann::json;
 
+/// The vertex attribute geom writes when welding by position would join vertices the mesh
+/// keeps apart (a glTF application-specific semantic, VEC2 UNSIGNED_SHORT: low and high 16
+/// bits of the id): vertices with one id are one vertex.
+constexpr const char* kVertexIdAttribute = "_GEOM_VERTEX";
 constexpr int kFloat = 5126, kUnsignedInt = 5125, kUnsignedShort = 5123, kUnsignedByte = 5121,
               kShort = 5122, kByte = 5120;
 

@@ -2,6 +2,7 @@
 // specification requires, MSFT_lod for LOD chains.
 
 #include <geom/io/gltf.h>
+#include <geom/io/gltf_buffers.h>
 
 #include <geom/core/errors.h>
 
@@ -10,6 +11,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -28,6 +30,7 @@ struct Expanded {
   std::vector<TexCoord> texcoords;
   std::vector<Color> colors;
   std::vector<std::uint32_t> triangles;
+  std::vector<std::uint32_t> source;  ///< per written vertex: the soup's vertex
 };
 
 Expanded expand(const PolygonSoup& s) {
@@ -46,6 +49,8 @@ Expanded expand(const PolygonSoup& s) {
     if (vn) e.normals = s.vertex_normals;
     if (vt) e.texcoords = s.vertex_texcoords;
     if (vc) e.colors = s.vertex_colors;
+    e.source.resize(s.positions.size());
+    std::iota(e.source.begin(), e.source.end(), 0u);
   }
   std::map<std::tuple<std::uint32_t, double, double, double, double, double>, std::uint32_t> seen;
   auto vertex_of = [&](std::size_t corner, std::uint32_t v) -> std::uint32_t {
@@ -56,6 +61,7 @@ Expanded expand(const PolygonSoup& s) {
     auto [it, fresh] = seen.emplace(key, static_cast<std::uint32_t>(e.positions.size()));
     if (fresh) {
       e.positions.push_back(s.positions[v]);
+      e.source.push_back(v);
       if (corner_n || vn) e.normals.push_back(corner_n ? n : s.vertex_normals[v]);
       if (corner_uv || vt) e.texcoords.push_back(corner_uv ? uv : s.vertex_texcoords[v]);
       if (vc) e.colors.push_back(s.vertex_colors[v]);
@@ -116,7 +122,22 @@ class Writer {
     return static_cast<int>(gltf["accessors"].size() - 1);
   }
 
-  /// The mesh's index in the document, or -1 when it has no triangles: glTF has no empty
+  /// Whether a reader welding the written vertices by position and colour (as geom's does)
+/// would join soup vertices that are apart: written coordinates are single precision.
+bool welding_would_join(const Expanded& e) {
+  std::map<std::array<float, 6>, std::uint32_t> first;
+  for (std::size_t i = 0; i < e.positions.size(); ++i) {
+    const Point& p = e.positions[i];
+    const Color c = e.colors.empty() ? Color::Zero() : e.colors[i];
+    const std::array<float, 6> key = {float(p.x()) + 0.0f, float(p.y()) + 0.0f, float(p.z()) + 0.0f,
+                                      float(c.x()), float(c.y()), float(c.z())};
+    const auto [it, fresh] = first.try_emplace(key, e.source[i]);
+    if (!fresh && it->second != e.source[i]) return true;
+  }
+  return false;
+}
+
+/// The mesh's index in the document, or -1 when it has no triangles: glTF has no empty
   /// mesh (a primitive needs a POSITION accessor, and an accessor a count of at least 1).
   int add_mesh(const PolygonSoup& soup, const std::string& name) {
     Expanded e = expand(soup);
@@ -128,6 +149,13 @@ class Writer {
     if (!e.colors.empty()) {
       for (Color& c : e.colors) c = c.cwiseMax(0.0).cwiseMin(1.0);  // glTF colours are in [0, 1]
       prim["attributes"]["COLOR_0"] = add_float_accessor<3>(e.colors, "VEC3", false);
+    }
+    if (welding_would_join(e)) {  // attributes cannot be UNSIGNED_INT: two 16-bit halves
+      std::vector<std::uint16_t> halves;
+      for (std::uint32_t v : e.source) halves.insert(halves.end(), {std::uint16_t(v & 0xFFFF), std::uint16_t(v >> 16)});
+      gltf["accessors"].push_back({{"bufferView", add_view(halves.data(), halves.size() * 2, 34962)},
+                                   {"componentType", 5123}, {"count", e.source.size()}, {"type", "VEC2"}});
+      prim["attributes"][gltf_detail::kVertexIdAttribute] = gltf["accessors"].size() - 1;
     }
     gltf["accessors"].push_back({{"bufferView", add_view(e.triangles.data(), e.triangles.size() * 4, 34963)},
                                  {"componentType", 5125}, {"count", e.triangles.size()}, {"type", "SCALAR"}});

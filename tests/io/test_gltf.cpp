@@ -79,9 +79,14 @@ TEST(Gltf, CornerTexcoordsSplitVerticesAtSeams) {
   s.add_face({0, 2, 3});
   // Vertex 0 and 2 carry different uvs in the two faces: a seam along the diagonal.
   s.corner_texcoords = {{0, 0}, {1, 0}, {1, 1}, {0.5, 0}, {1, 1}, {0, 1}};
-  PolygonSoup back = read_gltf(bytes(write_gltf(gltf_from_soup(s), true)), "x").meshes[0];
-  EXPECT_EQ(back.positions.size(), 5u);  // vertex 0 split, vertex 2 shared
-  EXPECT_EQ(back.n_faces(), 2u);
+  // The file holds vertex 0 twice (split at the seam); reading welds it into one vertex
+  // whose two texture coordinates are corner values again.
+  const std::string glb = write_gltf(gltf_from_soup(s), true);
+  EXPECT_EQ(nlohmann::json::parse(glb.substr(20, le32(glb, 12)))["accessors"][0]["count"], 5);
+  PolygonSoup back = read_gltf(bytes(glb), "x").meshes[0];
+  EXPECT_EQ(back.positions, s.positions);
+  EXPECT_EQ(back.face_indices, s.face_indices);
+  EXPECT_EQ(back.corner_texcoords, s.corner_texcoords);
   // Flattening a document keeps per-corner values (it used to keep per-vertex ones only),
   // mirrored instances reversing them with their faces.
   GltfDocument doc = gltf_from_soup(s);
@@ -241,6 +246,62 @@ TEST(Gltf, TruncatedGlbIsRejected) {
   std::string v1 = glb;
   v1[4] = 1;
   EXPECT_THROW(read_gltf(bytes(v1), "t.glb"), ParseError);
+}
+
+}  // namespace
+}  // namespace geom
+
+namespace geom {
+namespace {
+
+// Two triangles sharing an edge, plus a copy of the first at the same place: a soup that
+// keeps vertices apart which welding by position would join.
+PolygonSoup with_coincident_copy() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+  s.add_face({0, 1, 2});
+  s.add_face({0, 2, 3});
+  s.add_face({4, 5, 6});
+  return s;
+}
+
+TEST(GltfWeld, SplitVerticesAreReadAsOneVertexWithCornerValues) {
+  // A file written by another tool: vertex 0 twice (different UVs), vertex 2 twice (same UV,
+  // different normal), and vertex 1 twice with different colours, which stay two vertices.
+  PolygonSoup split;
+  split.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}};
+  split.vertex_texcoords = {{0, 0}, {1, 0}, {1, 1}, {0.5, 0}, {1, 1}, {0, 1}, {1, 0}};
+  split.vertex_colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}, {0, 0, 1}, {1, 1, 1}, {0, 0, 0}};
+  split.add_face({0, 1, 2});
+  split.add_face({3, 4, 5});
+  split.add_face({6, 4, 3});
+  // geom marks its own split vertices (_GEOM_VERTEX); another tool's file has no mark.
+  auto j = nlohmann::json::parse(write_gltf(gltf_from_soup(split), false));
+  ASSERT_EQ(j["meshes"][0]["primitives"][0]["attributes"].erase("_GEOM_VERTEX"), 1u);
+  const std::string text = j.dump();
+  const PolygonSoup back = read_gltf(bytes(text), "x").meshes[0];
+  EXPECT_EQ(back.positions.size(), 5u);  // 0 and 3 one, 2 and 4 one, 1 and 6 apart (colour)
+  EXPECT_EQ(back.face_indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 4, 2, 0}));
+  ASSERT_EQ(back.corner_texcoords.size(), 9u);
+  EXPECT_EQ(back.corner_texcoords[3], TexCoord(0.5, 0));
+  EXPECT_TRUE(back.vertex_texcoords.empty());
+}
+
+TEST(GltfWeld, VerticesTheSoupKeepsApartComeBackApart) {
+  const PolygonSoup s = with_coincident_copy();
+  const std::string glb = write_gltf(gltf_from_soup(s), true);
+  const auto j = nlohmann::json::parse(glb.substr(20, le32(glb, 12)));
+  EXPECT_TRUE(j["meshes"][0]["primitives"][0]["attributes"].contains("_GEOM_VERTEX"));
+  const PolygonSoup back = read_gltf(bytes(glb), "x").meshes[0];
+  EXPECT_EQ(back.positions, s.positions);
+  EXPECT_EQ(back.face_indices, s.face_indices);
+  // Without coincident vertices the file carries no id.
+  PolygonSoup plain = s;
+  plain.positions.resize(4);
+  plain.face_offsets.pop_back();
+  plain.face_indices.resize(6);
+  const std::string small = write_gltf(gltf_from_soup(plain), true);
+  EXPECT_EQ(small.find("_GEOM_VERTEX"), std::string::npos);
 }
 
 }  // namespace
