@@ -42,7 +42,9 @@ void add_lod_command(CLI::App& app) {
         for (std::size_t k = 0; k < levels.size(); ++k) {
           const std::filesystem::path out = std::filesystem::path(args->outdir) /
               (stem + "_lod" + std::to_string(k + 1) + "." + format_name(format));
-          write_output(levels[k].mesh, {args->input}, args->common, WriteOptions{.format = format}, out.string());
+          WriteOptions write;
+          write.format = format;
+          write_output(levels[k].mesh, {args->input}, args->common, write, out.string());
           const MeshDistance& e = levels[k].error;
           j.push_back({{"file", out.string()}, {"ratio", levels[k].ratio}, {"faces", levels[k].faces},
                        {"hausdorff", e.hausdorff}, {"rms", e.rms},

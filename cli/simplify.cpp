@@ -7,6 +7,7 @@
 #include <geom/spatial/distance.h>
 
 #include <algorithm>
+#include <iostream>
 #include <memory>
 
 namespace geom::cli {
@@ -51,12 +52,27 @@ void add_simplify_command(CLI::App& app) {
         Loaded loaded = load_input(args->input, args->common);
         if (args->attributes.empty()) o.attributes = present_attributes(loaded.mesh, args->attribute_weight);
         o.keep_attributes = false;
+        // Non-manifold vertices the build split stay in place and are joined again.
+        const bool split = loaded.report.split_apart();
+        if (split) {
+          const std::vector<Vertex> copies = split_copies(loaded.report.vertex_origin);
+          o.locked.insert(o.locked.end(), copies.begin(), copies.end());
+        }
         Progress progress("simplify", !args->common.quiet && args->common.output != "-");
         o.progress = progress.callback();
         SimplifyResult r = simplify(loaded.mesh, o);
         progress.finish();
         warn_not_carried("simplify", r.dropped_properties, args->common);
-        write_output(r.mesh, {args->input}, args->common);
+        if (split) {
+          PolygonSoup joined = join_split_copies(r, loaded.report.vertex_origin);
+          joined.material_libraries = loaded.soup.material_libraries;
+          if (!args->common.quiet)
+            std::cerr << "geom simplify: the vertices split for the half-edge mesh stayed in place "
+                         "and are joined again (" << o.locked.size() << " copies)\n";
+          write_output(joined, {args->input}, args->common);
+        } else {
+          write_output(r.mesh, {args->input}, args->common);
+        }
         nlohmann::json j = {{"faces_before", r.faces_before},
                             {"faces_after", r.faces_after},
                             {"collapses", r.collapses},

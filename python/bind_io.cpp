@@ -42,13 +42,17 @@ void bind_io(py::module_& m) {
       .def_readwrite("binary", &WriteOptions::binary)
       .def_readwrite("drc_position_bits", &WriteOptions::drc_position_bits)
       .def_readwrite("drc_level", &WriteOptions::drc_level)
-      .def_readwrite("attributes", &WriteOptions::attributes);
+      .def_readwrite("attributes", &WriteOptions::attributes)
+      .def_readwrite("material_libraries", &WriteOptions::material_libraries,
+                     "OBJ: material files (mtllib) to name when the mesh names materials");
 
   py::class_<LoadResult>(m, "LoadResult")
       .def_readonly("mesh", &LoadResult::mesh)
       .def_readonly("report", &LoadResult::report)
       .def_readonly("warnings", &LoadResult::warnings,
-                    "What the reader skipped or could not keep, one line each");
+                    "What the reader skipped or could not keep, one line each")
+      .def_readonly("material_libraries", &LoadResult::material_libraries,
+                    "The OBJ's material files (mtllib), which geom.save writes again");
 
   m.def(
       "load_mesh",
@@ -72,7 +76,8 @@ void bind_io(py::module_& m) {
         const PolygonSoup soup =
             read_soup(std::as_bytes(std::span<const char>(view.data(), view.size())), f, name);
         BuildResult built = geom::build(soup, build);
-        return LoadResult{std::move(built.mesh), std::move(built.report), soup.warnings};
+        return LoadResult{std::move(built.mesh), std::move(built.report), soup.warnings,
+                          soup.material_libraries};
       },
       py::arg("data"), py::arg("format"), py::arg("build") = BuildOptions{},
       py::arg("name") = "<bytes>");
@@ -82,9 +87,16 @@ void bind_io(py::module_& m) {
       [](const SurfaceMesh& mesh, const std::string& path, const WriteOptions& options) {
         check_writable(path);
         py::gil_scoped_release release;
-        const PolygonSoup soup = to_soup(mesh);
+        PolygonSoup soup = to_soup(mesh);
+        if (!soup.face_materials.empty() && soup.material_libraries.empty())
+          soup.material_libraries = options.material_libraries;
         write_soup(soup, path, options);
-        return unstored(soup, options.format ? *options.format : format_from_path(path), options);
+        const FileFormat format = options.format ? *options.format : format_from_path(path);
+        std::vector<std::string> lines = unstored(soup, format, options);
+        if (format == FileFormat::kObj && !soup.face_materials.empty() && soup.material_libraries.empty())
+          lines.push_back("faces name materials (usemtl) but no material file is known: pass "
+                          "material_libraries=[...] (geom.load remembers a file's mtllib)");
+        return lines;
       },
       py::arg("mesh"), py::arg("path"), py::arg("options") = WriteOptions{});
 

@@ -216,7 +216,27 @@ class Reader {
       idx.resize(nv);
       for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
     }
+    const std::size_t faces_before = soup.n_faces();
     add_triangles(soup, mode, base, idx);
+    name_material(soup, prim, faces_before, where);
+  }
+
+  // The primitive's material names its faces (glTF groups faces by material).
+  void name_material(PolygonSoup& soup, const json& prim, std::size_t first_face, const std::string& where) {
+    FaceNames& names = soup.face_materials;
+    names.of_face.resize(first_face, FaceNames::kUnnamed);
+    std::uint32_t id = FaceNames::kUnnamed;
+    if (prim.contains("material")) {
+      const json& materials = array("materials");
+      const std::size_t m = ctx_.index(prim, "material", materials.size(), where);
+      std::string name = materials[m].is_object() ? ctx_.text(materials[m], "name", "materials[" + std::to_string(m) + "]") : "";
+      if (name.empty()) name = "material" + std::to_string(m);
+      const auto it = std::find(names.names.begin(), names.names.end(), name);
+      id = static_cast<std::uint32_t>(it - names.names.begin());
+      if (it == names.names.end()) names.names.push_back(name);
+    }
+    names.of_face.resize(soup.n_faces(), id);
+    if (names.names.empty()) names.of_face.clear();  // no primitive so far names a material
   }
 
   static void add_triangles(PolygonSoup& soup, int mode, std::uint32_t base, const std::vector<std::uint32_t>& idx) {

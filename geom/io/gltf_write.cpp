@@ -31,6 +31,7 @@ struct Expanded {
   std::vector<Color> colors;
   std::vector<std::uint32_t> triangles;
   std::vector<std::uint32_t> source;  ///< per written vertex: the soup's vertex
+  std::vector<std::uint32_t> triangle_face;  ///< per triangle: the soup's face
 };
 
 Expanded expand(const PolygonSoup& s) {
@@ -75,6 +76,7 @@ Expanded expand(const PolygonSoup& s) {
       e.triangles.push_back(vertex_of(first, c[0]));
       e.triangles.push_back(vertex_of(first + k, c[k]));
       e.triangles.push_back(vertex_of(first + k + 1, c[k + 1]));
+      e.triangle_face.push_back(static_cast<std::uint32_t>(f));
     }
   }
   // glTF requires unit normals; a zero or non-finite one has no direction to write.
@@ -157,13 +159,45 @@ bool welding_would_join(const Expanded& e) {
                                    {"componentType", 5123}, {"count", e.source.size()}, {"type", "VEC2"}});
       prim["attributes"][gltf_detail::kVertexIdAttribute] = gltf["accessors"].size() - 1;
     }
-    gltf["accessors"].push_back({{"bufferView", add_view(e.triangles.data(), e.triangles.size() * 4, 34963)},
-                                 {"componentType", 5125}, {"count", e.triangles.size()}, {"type", "SCALAR"}});
-    prim["indices"] = gltf["accessors"].size() - 1;
-    json mesh = {{"primitives", json::array({prim})}};
+    // One primitive per material (sharing the vertex accessors), in order of first use.
+    json primitives = json::array();
+    for (const auto& [material, triangles] : by_material(e, soup.face_materials)) {
+      json p = prim;
+      gltf["accessors"].push_back({{"bufferView", add_view(triangles.data(), triangles.size() * 4, 34963)},
+                                   {"componentType", 5125}, {"count", triangles.size()}, {"type", "SCALAR"}});
+      p["indices"] = gltf["accessors"].size() - 1;
+      if (material != FaceNames::kUnnamed) p["material"] = material_index(soup.face_materials.names[material]);
+      primitives.push_back(p);
+    }
+    json mesh = {{"primitives", primitives}};
     if (!name.empty()) mesh["name"] = name;
     gltf["meshes"].push_back(mesh);
     return static_cast<int>(gltf["meshes"].size() - 1);
+  }
+
+  /// The triangles of each material (kUnnamed: faces without one), in order of first use.
+  static std::vector<std::pair<std::uint32_t, std::vector<std::uint32_t>>> by_material(const Expanded& e,
+                                                                                      const FaceNames& names) {
+    std::vector<std::pair<std::uint32_t, std::vector<std::uint32_t>>> groups;
+    std::map<std::uint32_t, std::size_t> slot;
+    for (std::size_t t = 0; t < e.triangle_face.size(); ++t) {
+      const std::uint32_t m = names.empty() ? FaceNames::kUnnamed : names.of_face[e.triangle_face[t]];
+      const auto [it, fresh] = slot.try_emplace(m, groups.size());
+      if (fresh) groups.push_back({m, {}});
+      auto& tri = groups[it->second].second;
+      tri.insert(tri.end(), e.triangles.begin() + 3 * t, e.triangles.begin() + 3 * t + 3);
+    }
+    return groups;
+  }
+
+  /// The document's material of that name (a default material carrying the name).
+  int material_index(const std::string& name) {
+    if (!gltf.contains("materials")) gltf["materials"] = json::array();
+    json& materials = gltf["materials"];
+    for (std::size_t i = 0; i < materials.size(); ++i)
+      if (materials[i]["name"] == name) return static_cast<int>(i);
+    materials.push_back({{"name", name}});
+    return static_cast<int>(materials.size() - 1);
   }
 
   /// The specification's arrays have at least one element when present.
@@ -284,6 +318,26 @@ const T& at_corner(const std::vector<T>& corner, const std::vector<T>& vertex, c
 
 }  // namespace
 
+namespace {
+
+/// Append `faces` faces named by `from` to `to`, which names `before` faces so far.
+void append_names(FaceNames& to, std::size_t before, const FaceNames& from, std::size_t faces) {
+  if (from.empty() && to.empty()) return;
+  to.of_face.resize(before, FaceNames::kUnnamed);
+  for (std::size_t f = 0; f < faces; ++f) {
+    std::uint32_t id = FaceNames::kUnnamed;
+    if (!from.empty() && from.of_face[f] != FaceNames::kUnnamed) {
+      const std::string& name = from.names[from.of_face[f]];
+      const auto it = std::find(to.names.begin(), to.names.end(), name);
+      id = static_cast<std::uint32_t>(it - to.names.begin());
+      if (it == to.names.end()) to.names.push_back(name);
+    }
+    to.of_face.push_back(id);
+  }
+}
+
+}  // namespace
+
 PolygonSoup flatten(const GltfDocument& doc) {
   PolygonSoup out;
   out.warnings = doc.warnings;
@@ -314,6 +368,7 @@ PolygonSoup flatten(const GltfDocument& doc) {
     if (keep.uvs && !keep.corner_uvs) out.vertex_texcoords.insert(out.vertex_texcoords.end(), s.vertex_texcoords.begin(), s.vertex_texcoords.end());
     if (keep.colors) out.vertex_colors.insert(out.vertex_colors.end(), s.vertex_colors.begin(), s.vertex_colors.end());
     const bool flip = lin.determinant() < 0;  // a mirror turns the faces inside out
+    append_names(out.face_materials, out.n_faces(), s.face_materials, s.n_faces());
     for (std::size_t f = 0; f < s.n_faces(); ++f) {
       std::vector<std::uint32_t> corners(s.face_offsets[f + 1] - s.face_offsets[f]);
       std::iota(corners.begin(), corners.end(), s.face_offsets[f]);

@@ -292,12 +292,16 @@ LoadResult load_mesh(const std::filesystem::path& path, const ReadOptions& read,
                      const BuildOptions& options) {
   PolygonSoup soup = read_soup(path, read);
   BuildResult r = build(soup, options);
-  return {std::move(r.mesh), std::move(r.report), std::move(soup.warnings)};
+  return {std::move(r.mesh), std::move(r.report), std::move(soup.warnings),
+          std::move(soup.material_libraries)};
 }
 
 void save_mesh(const SurfaceMesh& mesh, const std::filesystem::path& path,
                const WriteOptions& options) {
-  write_soup(to_soup(mesh), path, options);
+  PolygonSoup soup = to_soup(mesh);
+  if (!soup.face_materials.empty() && soup.material_libraries.empty())
+    soup.material_libraries = options.material_libraries;
+  write_soup(soup, path, options);
 }
 
 }  // namespace geom

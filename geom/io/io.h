@@ -62,6 +62,9 @@ struct WriteOptions {
   int drc_level = 7;
   /// OBJ/PLY/OFF: write vertex normals/colours/texcoords when the mesh has them.
   bool attributes = true;
+  /// OBJ: the material files ("mtllib") to name when the soup names none. A mesh keeps its
+  /// faces' material names, not the files defining them (LoadResult has those).
+  std::vector<std::string> material_libraries;
 };
 
 /// Read a file ("-" is stdin; then options.format is required) into a soup. The format is
@@ -104,11 +107,12 @@ struct LoadResult {
   SurfaceMesh mesh;
   BuildReport report;
   std::vector<std::string> warnings;  ///< the reader's (PolygonSoup::warnings)
+  std::vector<std::string> material_libraries;  ///< OBJ "mtllib" files, for save_mesh
 };
 /// read_soup + build.
 LoadResult load_mesh(const std::filesystem::path& path, const ReadOptions& read = {},
                      const BuildOptions& build = {});
-/// to_soup + write_soup.
+/// to_soup + write_soup (with options.material_libraries when the mesh names materials).
 void save_mesh(const SurfaceMesh& mesh, const std::filesystem::path& path,
                const WriteOptions& options = {});
 

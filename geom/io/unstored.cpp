@@ -53,13 +53,16 @@ void gltf_values(const PolygonSoup& soup, std::vector<std::string>& out) {
   if (outside) out.push_back(plural(outside, "colour", "colours") + " outside [0, 1] are clamped (glTF's range)");
 }
 
-// Only OBJ names faces' objects, groups and materials and the files that define them.
-void face_names(const PolygonSoup& soup, const std::string& in, std::vector<std::string>& out) {
+// Only OBJ names faces' objects, groups and materials and the files that define them; glTF
+// keeps the material names (a primitive per material, a material of that name).
+void face_names(const PolygonSoup& soup, bool materials_kept, const std::string& in,
+                std::vector<std::string>& out) {
   std::string sets;
   for (auto [names, one, many] : {std::tuple{&soup.face_objects, "object", "objects"},
                                   std::tuple{&soup.face_groups, "group", "groups"},
                                   std::tuple{&soup.face_materials, "material", "materials"}})
-    if (!names->empty()) sets += (sets.empty() ? "" : ", ") + plural(names->names.size(), one, many);
+    if (!names->empty() && !(materials_kept && names == &soup.face_materials))
+      sets += (sets.empty() ? "" : ", ") + plural(names->names.size(), one, many);
   if (!sets.empty()) out.push_back("face names (" + sets + ") are not stored" + in);
   std::string libs;
   for (const std::string& lib : soup.material_libraries) libs += (libs.empty() ? "" : ", ") + lib;
@@ -113,7 +116,8 @@ std::vector<std::string> unstored(const PolygonSoup& soup, FileFormat format, co
       out.push_back("face properties " + names(soup.face_scalars) + " are not stored" + in);
     if (format == FileFormat::kGltf || format == FileFormat::kGlb) gltf_values(soup, out);
   }
-  if (format != FileFormat::kObj) face_names(soup, in, out);
+  if (format != FileFormat::kObj)
+    face_names(soup, format == FileFormat::kGltf || format == FileFormat::kGlb, in, out);
   if (!k.creases && (!soup.creases.empty() || !soup.corners.empty() || soup.boundary_interpolation))
     out.push_back("subdivision tags (" + plural(soup.creases.size(), "crease", "creases") + ", " +
                   plural(soup.corners.size(), "corner", "corners") + ") are not stored" + in);

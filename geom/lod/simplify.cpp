@@ -2,10 +2,13 @@
 #include <geom/lod/refit.h>
 #include <geom/lod/simplify.h>
 
+#include <geom/core/errors.h>
 #include <geom/core/geometry.h>
 #include <geom/core/soup.h>
 
 #include <cmath>
+#include <string>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace geom {
@@ -130,6 +133,32 @@ SimplifyResult detail::simplify(const SurfaceMesh& mesh, const SimplifyOptions& 
                              engine.input_vertex_areas(mesh.vertices_size()), lines);
   }
   return result;
+}
+
+std::vector<Vertex> split_copies(std::span<const std::uint32_t> vertex_origin) {
+  std::unordered_map<std::uint32_t, std::uint32_t> copies;
+  for (std::uint32_t o : vertex_origin) ++copies[o];
+  std::vector<Vertex> out;
+  for (std::uint32_t v = 0; v < vertex_origin.size(); ++v)
+    if (copies[vertex_origin[v]] > 1) out.push_back(Vertex(v));
+  return out;
+}
+
+PolygonSoup join_split_copies(const SimplifyResult& result,
+                              std::span<const std::uint32_t> vertex_origin) {
+  PolygonSoup soup = to_soup(result.mesh);
+  std::unordered_map<std::uint32_t, std::uint32_t> first;  // input vertex -> output vertex
+  std::vector<std::uint32_t> same(soup.positions.size());
+  for (std::uint32_t v = 0; v < same.size(); ++v) {
+    const std::uint32_t built = result.vertex_origin.at(v).idx();
+    if (built >= vertex_origin.size())
+      throw InvalidArgument("join_split_copies: output vertex " + std::to_string(v) +
+                            " comes from vertex " + std::to_string(built) + ", beyond the " +
+                            std::to_string(vertex_origin.size()) + " of the origin map");
+    same[v] = first.try_emplace(vertex_origin[built], v).first->second;
+  }
+  join_vertices(soup, same);
+  return soup;
 }
 
 }  // namespace geom

@@ -7,11 +7,13 @@
 /// Meshes with Appearance Attributes", IEEE Visualization 1999; Dey, Edelsbrunner, Guha,
 /// Nekhayev, "Topology Preserving Edge Contraction", 1999 (link condition).
 
+#include <geom/core/soup.h>
 #include <geom/core/surface_mesh.h>
 
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -130,5 +132,16 @@ SimplifyAttributes present_attributes(const SurfaceMesh& mesh, double weight = 1
 /// whose diagonals are not already edges (any would make the mesh non-manifold).
 /// Complexity: O(F log F).
 SimplifyResult simplify(const SurfaceMesh& mesh, const SimplifyOptions& options = {});
+
+/// Non-manifold input as given. build() splits a non-manifold vertex into copies, one per
+/// fan (BuildReport::vertex_origin names each one's input vertex). Lock the copies
+/// (SimplifyOptions::locked = split_copies(origin)) so they stay in place, simplify, and
+/// join_split_copies() gives the result as a soup on which the surviving copies of one input
+/// vertex are one vertex again: the output keeps the input's non-manifold vertices.
+/// Complexity: O(V) each.
+std::vector<Vertex> split_copies(std::span<const std::uint32_t> vertex_origin);
+/// Throws: InvalidArgument when the result names a vertex beyond `vertex_origin`.
+PolygonSoup join_split_copies(const SimplifyResult& result,
+                              std::span<const std::uint32_t> vertex_origin);
 
 }  // namespace geom

@@ -4,10 +4,13 @@
 #include "io_test_util.h"
 
 #include <geom/core/build.h>
+#include <geom/io/gltf.h>
 #include <geom/io/io.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -123,3 +126,24 @@ TEST(ObjNames, LargeFilesReadInPiecesKeepTheNameCurrentAtEachPieceStart) {
   EXPECT_EQ(s.face_materials.names.size(), 1u);
   EXPECT_EQ(s.material_libraries, std::vector<std::string>{"big.mtl"});
 }
+
+namespace geom {
+namespace {
+
+TEST(ObjNames, GltfKeepsMaterialNamesAsPrimitives) {
+  const PolygonSoup s = parse(kNamed, FileFormat::kObj);
+  const std::vector<std::string> glb = unstored(s, FileFormat::kGlb);
+  EXPECT_NE(std::find(glb.begin(), glb.end(),
+                      "face names (1 object, 2 groups) are not stored (glb has no place for them)"),
+            glb.end())
+      << ::testing::PrintToString(glb);
+  const std::string data = write_gltf(gltf_from_soup(s), true);
+  const PolygonSoup back =
+      flatten(read_gltf(std::as_bytes(std::span(data.data(), data.size())), "x.glb"));
+  ASSERT_EQ(back.n_faces(), 6u);  // the quad is two triangles
+  EXPECT_EQ(per_face(back.face_materials, 6),
+            (std::vector<std::string>{"", "oak", "oak", "steel", "steel", "steel"}));
+}
+
+}  // namespace
+}  // namespace geom

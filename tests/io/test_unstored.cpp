@@ -75,7 +75,9 @@ TEST(Unstored, NothingIsNamedWhenTheFileKeepsEverythingOrAttributesWereTurnedOff
   for (FileFormat f : {FileFormat::kObj, FileFormat::kPly, FileFormat::kOff, FileFormat::kDrc, FileFormat::kGlb})
     EXPECT_TRUE(unstored(s, f).empty()) << format_name(f);
   EXPECT_EQ(unstored(s, FileFormat::kStl).size(), 1u);
-  EXPECT_TRUE(unstored(s, FileFormat::kStl, WriteOptions{.attributes = false}).empty());
+  WriteOptions no_attributes;
+  no_attributes.attributes = false;
+  EXPECT_TRUE(unstored(s, FileFormat::kStl, no_attributes).empty());
 }
 
 }  // namespace

@@ -236,3 +236,70 @@ def test_compress_keeps_every_face_of_a_named_obj_with_a_degenerate_face(run, tm
     assert r.returncode == 0, r.stderr
     faces = sorted(line for line in (tmp_path / "back.obj").read_text().splitlines() if line.startswith("f "))
     assert faces == ["f 1 1 2", "f 1 2 3", "f 3 2 4"]
+
+
+def test_python_load_and_save_keep_the_material_files(tmp_path):
+    src = tmp_path / "named.obj"
+    src.write_text(NAMED_OBJ)
+    mesh = geom.load(src)
+    assert geom.load_with_report(src).material_libraries == ["shop.mtl"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        geom.save(mesh, tmp_path / "same.obj")
+    assert obj_names(tmp_path / "same.obj") == NAMES
+    # A mesh made from it has the material names but not the files: said, or passed.
+    moved = geom.Mesh(mesh.vertices + 1.0, mesh.faces)
+    moved_names = geom.subdivide(mesh, levels=0).mesh
+    with pytest.warns(UserWarning, match="no material file is known"):
+        geom.save(moved_names, tmp_path / "made.obj")
+    geom.save(moved_names, tmp_path / "passed.obj", material_libraries=["shop.mtl"])
+    assert obj_names(tmp_path / "passed.obj") == NAMES
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        geom.save(moved, tmp_path / "unnamed.obj")  # names no material: nothing to say
+
+
+def _two_octahedra_sharing_a_vertex():
+    """Two octahedra touching at vertex 1 (a non-manifold vertex), as OBJ text."""
+    import itertools
+    verts, faces = [], []
+    for cx in (0.0, 2.0):
+        base = len(verts)
+        pts = [(cx + 1, 0, 0), (cx - 1, 0, 0), (cx, 1, 0), (cx, -1, 0), (cx, 0, 1), (cx, 0, -1)]
+        verts += pts
+        for sx, sy, sz in itertools.product((0, 1), (2, 3), (4, 5)):
+            tri = [base + sx, base + sy, base + sz]
+            a, b, c = (pts[i - base] for i in tri)
+            n = ((b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                 (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                 (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+            centre = (sum(p[0] for p in (a, b, c)) / 3 - cx, sum(p[1] for p in (a, b, c)) / 3,
+                      sum(p[2] for p in (a, b, c)) / 3)
+            if sum(x * y for x, y in zip(n, centre)) < 0:
+                tri.reverse()
+            faces.append(tri)
+    # The second octahedron's vertex 1 (at x = 1) is the first one's vertex 0: share it.
+    shared, dup = 0, 6 + 1
+    faces = [[shared if i == dup else i - (i > dup) for i in f] for f in faces]
+    del verts[dup]
+    lines = [f"v {x} {y} {z}" for x, y, z in verts]
+    lines += ["f " + " ".join(str(i + 1) for i in f) for f in faces]
+    return "\n".join(lines) + "\n"
+
+
+def test_simplify_keeps_a_non_manifold_vertex_one_vertex(run, tmp_path):
+    src = tmp_path / "bowtie.obj"
+    src.write_text(_two_octahedra_sharing_a_vertex())
+    out = tmp_path / "out.obj"
+    r = run("simplify", src, out, "--ratio", "0.9")
+    assert r.returncode == 0, r.stderr
+    assert "joined again (2 copies)" in r.stderr
+    lines = out.read_text().splitlines()
+    verts = [tuple(map(float, l.split()[1:4])) for l in lines if l.startswith("v ")]
+    assert verts.count((1.0, 0.0, 0.0)) == 1  # the shared vertex, once, where it was
+    shared = verts.index((1.0, 0.0, 0.0)) + 1
+    faces = [[int(t.split("/")[0]) for t in l.split()[1:]] for l in lines if l.startswith("f ")]
+    users = [f for f in faces if shared in f]
+    # Faces of both octahedra use it: some lie left of x = 1, some right.
+    xs = {verts[i - 1][0] > 1.0 for f in users for i in f if i != shared}
+    assert xs == {True, False}
