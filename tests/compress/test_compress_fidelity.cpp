@@ -113,6 +113,22 @@ TEST(CompressFidelity, KeepsDegenerateZeroAreaDuplicateAndFlippedFaces) {
   EXPECT_EQ(codec::decompress_flat(r.bytes).triangles.size(), 3u * 2 * 36);  // the 36 quads
 }
 
+TEST(CompressFidelity, CornerValuesOfLooseFacesAreNamedAsNotStored) {
+  PolygonSoup in = grid_with_bad_faces();
+  in.corner_texcoords.assign(in.face_indices.size(), TexCoord(0.25, 0.5));
+  const CompressResult r = compress(in);
+  ASSERT_EQ(r.stats.loose_faces, 4u);
+  const auto& d = r.stats.dropped_properties;
+  EXPECT_NE(std::find(d.begin(), d.end(),
+                      "corner texture coordinates of 4 loose faces (they decode as zeros)"),
+            d.end())
+      << ::testing::PrintToString(d);
+  // Without loose faces nothing is said.
+  PolygonSoup clean = wavy_grid(4, 0.1);
+  clean.corner_texcoords.assign(clean.face_indices.size(), TexCoord(0.25, 0.5));
+  EXPECT_TRUE(compress(clean).stats.dropped_properties.empty());
+}
+
 TEST(CompressFidelity, PreservedOrderGivesTheSoupBack) {
   const PolygonSoup in = grid_with_bad_faces();
   const PolygonSoup out = round_trip(in, {.preserve_order = true});

@@ -102,6 +102,13 @@ CompressResult compress(const PolygonSoup& soup, const CompressOptions& options)
   CompressResult r = compress(built.mesh, o);
   r.stats.loose_faces = o.loose_faces.size();
   r.stats.unstorable_faces = unstorable;
+  // A loose face travels as its corners' vertices only.
+  const std::string loose = std::to_string(o.loose_faces.size()) + " loose face" +
+                            (o.loose_faces.size() == 1 ? "" : "s") + " (they decode as zeros)";
+  if (!o.loose_faces.empty() && !soup.corner_texcoords.empty())
+    r.stats.dropped_properties.push_back("corner texture coordinates of " + loose);
+  if (!o.loose_faces.empty() && !soup.corner_normals.empty())
+    r.stats.dropped_properties.push_back("corner normals of " + loose);
   r.stats.split_copies = built.mesh.n_vertices() - soup.positions.size();
   return r;
 }

@@ -17,7 +17,8 @@ namespace geom {
 /// The soup is built with no welding and no reorienting (faces that disagree are split
 /// apart instead, and joined again on decoding); faces with a repeated index, zero area or
 /// another face's vertex set travel as loose faces (options.loose_faces is replaced, as is
-/// options.vertex_origin). Per-corner and per-face attributes of loose faces are not kept.
+/// options.vertex_origin). Per-corner and per-face attributes of loose faces are not kept;
+/// stats.dropped_properties names the corner values lost, with the count of loose faces.
 /// stats.unstorable_faces counts faces with an index beyond the vertices: they are not
 /// stored. The permutations in the result refer to the mesh built from the soup.
 /// Throws: InvalidArgument as check_soup() and compress(const SurfaceMesh&, …).
