@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 #include <unistd.h>
 
@@ -77,6 +78,9 @@ struct State {
   // non-manifold vertices apart (a compress step records them, as geom compress does);
   // empty once a step changes the mesh.
   std::vector<std::uint32_t> origin;
+  // After a simplify of split input, the source vertex of each mesh vertex: the copies of
+  // one are joined again when writing (cleared by any later step that changes the mesh).
+  std::vector<std::uint32_t> join_origin;
   // The input's material files (OBJ mtllib): a mesh keeps its faces' material names only.
   std::vector<std::string> material_libraries;
   std::vector<std::uint8_t> compressed;  // set by a compress step
@@ -85,6 +89,8 @@ struct State {
 };
 
 void apply(const Step& step, bool first, State& s, Record& r) {
+  if (!std::holds_alternative<ValidateStep>(step.options) && !std::holds_alternative<ConvertStep>(step.options))
+    s.join_origin.clear();
   std::visit(
       [&](const auto& o) {
         using T = std::decay_t<decltype(o)>;
@@ -99,7 +105,14 @@ void apply(const Step& step, bool first, State& s, Record& r) {
         } else if constexpr (std::is_same_v<T, RepairStep>) {
           if (!first) s.mesh = build(to_soup(s.mesh), o.options).mesh, s.origin.clear();  // first: done on read
         } else if constexpr (std::is_same_v<T, SimplifyStep>) {
-          SimplifyResult result = simplify(s.mesh, o.options);
+          SimplifyOptions options = o.options;
+          if (!s.origin.empty()) {  // split non-manifold vertices stay, to be joined again
+            const std::vector<Vertex> copies = split_copies(s.origin);
+            options.locked.insert(options.locked.end(), copies.begin(), copies.end());
+          }
+          SimplifyResult result = simplify(s.mesh, options);
+          if (!s.origin.empty())
+            for (Vertex v : result.vertex_origin) s.join_origin.push_back(s.origin[v.idx()]);
           if (!result.dropped_properties.empty()) {
             std::string names;
             for (const std::string& n : result.dropped_properties) names += (names.empty() ? "" : ", ") + n;
@@ -166,6 +179,13 @@ void write(const Task& task, State& s, Record& r) {
   std::vector<std::byte> file;
   if (!s.is_compressed) {
     PolygonSoup out = s.soup_only ? std::move(s.soup) : to_soup(s.mesh);
+    if (!s.join_origin.empty()) {
+      std::unordered_map<std::uint32_t, std::uint32_t> first;
+      std::vector<std::uint32_t> same(out.positions.size());
+      for (std::uint32_t v = 0; v < same.size(); ++v) same[v] = first.try_emplace(s.join_origin[v], v).first->second;
+      join_vertices(out, same);
+      r.after.vertices = out.positions.size();
+    }
     if (!out.face_materials.empty() && out.material_libraries.empty()) out.material_libraries = s.material_libraries;
     file = write_soup(out, *s.write.format, s.write);
     for (std::string& line : unstored(out, *s.write.format, s.write)) r.warnings.push_back(std::move(line));

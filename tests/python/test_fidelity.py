@@ -303,3 +303,14 @@ def test_simplify_keeps_a_non_manifold_vertex_one_vertex(run, tmp_path):
     # Faces of both octahedra use it: some lie left of x = 1, some right.
     xs = {verts[i - 1][0] > 1.0 for f in users for i in f if i != shared}
     assert xs == {True, False}
+
+
+def test_batch_simplify_keeps_a_non_manifold_vertex_one_vertex(run, tmp_path):
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "bowtie.obj").write_text(_two_octahedra_sharing_a_vertex())
+    r = run("batch", folder, tmp_path / "out", "--step", "simplify --ratio 0.9")
+    assert r.returncode == 0, r.stderr
+    lines = (tmp_path / "out" / "bowtie.obj").read_text().splitlines()
+    verts = [tuple(map(float, l.split()[1:4])) for l in lines if l.startswith("v ")]
+    assert verts.count((1.0, 0.0, 0.0)) == 1
