@@ -1,9 +1,10 @@
 // Subdividing a soup as given. OpenSubdiv refines non-manifold edges and vertices, repeated
 // corners, fins and zero-area faces as they are; the half-edge core cannot hold them. So a
-// corner that repeats a vertex gets a vertex of its own, build() splits the rest, every
-// copy is tagged with the sharpness OpenSubdiv gives the element it copies, and each level
-// is refined and tracked: which OpenSubdiv vertex and edge every mesh vertex and edge stands
-// for. The copies are joined again at the end, in OpenSubdiv's vertex order.
+// vertex that a face repeats gets a vertex per fan, build() splits the rest, every copy is
+// tagged with the sharpness OpenSubdiv gives the element it copies, and one subdivide()
+// call refines all levels. OpenSubdiv's numbering of every level is followed face corner by
+// face corner (faces are the same on both sides), and the copies are joined again at the
+// end, in OpenSubdiv's vertex order.
 
 #include <geom/subdivision/subdivision.h>
 
