@@ -153,7 +153,7 @@ struct SoupSubdivideResult {
 /// first levels of vertices are the input's. Manifold input takes subdivide(mesh)'s path.
 /// Throws: InvalidArgument naming a face with an index out of range or fewer than 3
 /// corners, and as subdivide(mesh).
-/// Complexity: O(output size) plus, when the input is non-manifold, a mesh per level.
+/// Complexity: O(output size); non-manifold input adds its split copies and the join.
 SoupSubdivideResult subdivide(const PolygonSoup& soup, const SubdivideOptions& options = {});
 
 struct LimitOptions {
